@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// @file
+/// Pinhole camera with OpenCV's distortion model (SPEC §4), usable by Ceres
+/// autodiff. Pixels: the centre of the top-left pixel is (0, 0). Camera frame:
+/// OpenCV optical frame (x right, y down, z forward).
+
+#include <Eigen/Core>
+#include <array>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace handeye {
+
+/// OpenCV's full model: `fx fy cx cy k1 k2 p1 p2 k3 k4 k5 k6 s1 s2 s3 s4 tx ty`.
+/// Fewer coefficients (0, 4, 5, 8, 12) are the same model with the rest zero,
+/// exactly as `cv::projectPoints` treats them.
+struct OpenCVCameraModel {
+  static constexpr int kNumParams = 18;
+  static constexpr int kNumDistortion = 14;
+  static const char* ParamOrder() {
+    return "fx, fy, cx, cy, k1, k2, p1, p2, k3, k4, k5, k6, s1, s2, s3, s4, tau_x, tau_y";
+  }
+
+  /// Normalised image point (x, y) = (X/Z, Y/Z) to distorted normalised point,
+  /// before the focal length and principal point are applied.
+  template <typename T>
+  static void Distort(const T* params, const T& x, const T& y, T* xd, T* yd) {
+    using std::cos;
+    using std::sin;
+    const T* k = params + 4;
+    const T r2 = x * x + y * y;
+    const T r4 = r2 * r2;
+    const T r6 = r4 * r2;
+    const T radial = (T(1) + k[0] * r2 + k[1] * r4 + k[4] * r6) /
+                     (T(1) + k[5] * r2 + k[6] * r4 + k[7] * r6);
+    const T xy2 = T(2) * x * y;
+    T x0 = x * radial + k[2] * xy2 + k[3] * (r2 + T(2) * x * x) + k[8] * r2 + k[9] * r4;
+    T y0 = y * radial + k[2] * (r2 + T(2) * y * y) + k[3] * xy2 + k[10] * r2 + k[11] * r4;
+    // Tilted sensor (Scheimpflug): a homography on the distorted point; identity
+    // when tau_x = tau_y = 0, skipped then so jets stay cheap.
+    if (k[12] != T(0) || k[13] != T(0)) {
+      const T ctx = cos(k[12]), stx = sin(k[12]), cty = cos(k[13]), sty = sin(k[13]);
+      // R = Ry(tau_y) * Rx(tau_x), as in cv::computeTiltProjectionMatrix.
+      const T r00 = cty, r01 = sty * stx, r02 = -sty * ctx;
+      const T r10 = T(0), r11 = ctx, r12 = stx;
+      const T r20 = sty, r21 = -cty * stx, r22 = cty * ctx;
+      // Tilt = [[r22, 0, -r02], [0, r22, -r12], [0, 0, 1]] * R.
+      const T h0 = (r22 * r00 - r02 * r20) * x0 + (r22 * r01 - r02 * r21) * y0 + (r22 * r02 - r02 * r22);
+      const T h1 = (r22 * r10 - r12 * r20) * x0 + (r22 * r11 - r12 * r21) * y0 + (r22 * r12 - r12 * r22);
+      const T h2 = r20 * x0 + r21 * y0 + r22;
+      x0 = h0 / h2;
+      y0 = h1 / h2;
+    }
+    *xd = x0;
+    *yd = y0;
+  }
+
+  /// Projects a point in the camera frame to pixels. Returns false when the
+  /// point is not in front of the camera (Z <= 0).
+  template <typename T>
+  static bool Project(const T* params, const T* p_cam, T* uv) {
+    if (!(p_cam[2] > T(0))) return false;
+    const T x = p_cam[0] / p_cam[2];
+    const T y = p_cam[1] / p_cam[2];
+    T xd, yd;
+    Distort(params, x, y, &xd, &yd);
+    uv[0] = params[0] * xd + params[2];
+    uv[1] = params[1] * yd + params[3];
+    return true;
+  }
+};
+
+/// One camera: name, image size and intrinsics in OpenCVCameraModel order.
+struct Camera {
+  std::string name;
+  int width = 0;   ///< pixels
+  int height = 0;  ///< pixels
+  /// fx, fy, cx, cy then 14 distortion coefficients (unused ones zero).
+  std::array<double, OpenCVCameraModel::kNumParams> params{};
+  /// How many distortion coefficients the input gave (0, 4, 5, 8, 12 or 14);
+  /// kept so a file is written back the way it was read.
+  int num_distortion = 0;
+
+  /// Builds a camera; `distortion` must have 0, 4, 5, 8, 12 or 14 entries.
+  /// Returns nullopt and says why when it has not, or an entry is not finite,
+  /// or fx, fy or the size is not positive.
+  static std::optional<Camera> Make(std::string name, int width, int height, double fx, double fy,
+                                    double cx, double cy, const std::vector<double>& distortion,
+                                    std::string* why);
+
+  double fx() const { return params[0]; }
+  double fy() const { return params[1]; }
+  double cx() const { return params[2]; }
+  double cy() const { return params[3]; }
+  /// The distortion coefficients as given (num_distortion entries).
+  std::vector<double> Distortion() const;
+  bool HasDistortion() const;
+
+  /// Pixel of a point in the camera frame; nullopt behind the camera.
+  std::optional<Eigen::Vector2d> Project(const Eigen::Vector3d& p_cam) const;
+
+  /// Inverse of the distortion: the normalised point (x, y) with
+  /// Distort(x, y) = the pixel's distorted normalised point, so the ray through
+  /// the pixel is (x, y, 1). Newton iterations from the undistorted guess;
+  /// nullopt when they do not converge to 1e-12 (pixel far outside the
+  /// model's valid domain).
+  std::optional<Eigen::Vector2d> Undistort(const Eigen::Vector2d& uv) const;
+
+  /// True when the pixel lies inside the image (with `margin` pixels kept clear).
+  bool InImage(const Eigen::Vector2d& uv, double margin = 0.0) const {
+    return uv.x() >= -0.5 + margin && uv.y() >= -0.5 + margin && uv.x() <= width - 0.5 - margin &&
+           uv.y() <= height - 0.5 - margin;
+  }
+};
+
+}  // namespace handeye

@@ -1,0 +1,61 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// @file
+/// Synthetic workcells with ground truth: camera rings, robot poses and the
+/// true projections of the target, without images (io/render.h draws them).
+/// Used by `handeye simulate`, by solver tests (projected observations) and by
+/// the benchmarks.
+
+#include <cstdint>
+#include <memory>
+#include <random>
+#include <string>
+
+#include "handeye/core/dataset.h"
+
+namespace handeye {
+
+/// What to simulate. Presets set geometry and cameras; explicit fields override.
+struct SceneOptions {
+  /// "small" (≈ 6 m², cameras ≈ 1.5 m from the target), "medium" (≈ 12 m²,
+  /// ≈ 2.5 m), "large" (≈ 20 m², ≈ 4 m), or "metric-medium" (METRIC's synthetic
+  /// medium cell: 4 cameras, 1920×1080, fx = fy = 1371.02, cx = 960.5,
+  /// cy = 540.5, no distortion, ≈ 2.3 m from the base, ≈ 1.15 m high).
+  std::string cell = "medium";
+  Setup setup = Setup::kEyeToHand;
+  int num_cameras = 4;
+  int num_poses = 20;
+  std::uint64_t seed = 1;
+  /// Image size; 0 = the preset's (1920×1080).
+  int width = 0, height = 0;
+  /// Give each camera its own lens distortion (ignored by metric-medium).
+  bool distortion = true;
+  /// Robot pose noise added to the reported T_base_ee (the truth is kept in
+  /// GroundTruth::PoseTruth): translation σ per axis (mm), rotation σ (deg).
+  double pose_noise_mm = 0.0;
+  double pose_noise_deg = 0.0;
+  /// A point counts as visible when it projects at least this far inside the image.
+  double border_margin_px = 4.0;
+
+  bool Check(std::string* why) const;
+};
+
+/// A simulated cell: the dataset as a user would have it (reported poses,
+/// no images yet, no observations) and the truth behind it.
+struct SyntheticScene {
+  Dataset dataset;
+  GroundTruth truth;  ///< with PoseTruth::points_px of every visible point
+};
+
+/// Builds a scene. Deterministic for a given seed. The target is given so any
+/// target type can be simulated.
+SyntheticScene MakeScene(const SceneOptions& options, std::shared_ptr<const Target> target);
+
+/// T_cam_target of camera `camera` at pose `pose_index` under the truth.
+Eigen::Isometry3d TrueCameraFromTarget(const SyntheticScene& scene, int camera, int pose_index);
+
+/// Observations from the true projections plus isotropic Gaussian pixel noise
+/// of σ `noise_px` (no images). Fills scene->dataset.observations.
+void AddProjectedObservations(SyntheticScene* scene, double noise_px, std::mt19937_64* rng);
+
+}  // namespace handeye

@@ -1,0 +1,24 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+
+#include <memory>
+
+#include "handeye/core/checkerboard.h"
+#include "handeye/detectors/detector.h"
+
+namespace handeye {
+
+/// Checkerboard detector: OpenCV corner finding, sub-pixel refinement, then
+/// ids by SPEC §4's black-square rule, so that a board seen rotated or upside
+/// down gives the same ids to the same physical corners (up to the 180° flip
+/// that ambiguous boards, cols + rows even, cannot resolve).
+class CheckerboardDetector : public Detector {
+ public:
+  explicit CheckerboardDetector(std::shared_ptr<const CheckerboardTarget> target);
+  std::optional<Detection> Detect(const cv::Mat& gray) const override;
+
+ private:
+  std::shared_ptr<const CheckerboardTarget> target_;
+};
+
+}  // namespace handeye

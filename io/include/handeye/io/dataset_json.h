@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// @file
+/// Reading and writing `handeye-dataset/1`, `handeye-observations/1` (SPEC §4,
+/// §5) and `handeye-ground-truth/1`. Every loader throws InputError naming the
+/// file, the JSON path and what was expected; it never fills in a silent
+/// default. Writers are atomic (io/atomic_file.h).
+
+#include <string>
+#include <vector>
+
+#include "handeye/core/dataset.h"
+
+namespace handeye {
+
+struct LoadOptions {
+  /// Replace a slightly non-orthonormal rotation in T_base_ee by the nearest
+  /// rotation instead of rejecting it.
+  bool reorthonormalise = false;
+};
+
+/// Reads a dataset or an observations file (told apart by `format`). Image
+/// paths come back resolved against the file's folder. Target warnings (e.g.
+/// an ambiguous checkerboard) are appended to `warnings` when given.
+Dataset LoadDataset(const std::string& path, const LoadOptions& options = {},
+                    std::vector<std::string>* warnings = nullptr);
+
+/// Writes `handeye-dataset/1`; image paths are written relative to the file's folder.
+void SaveDataset(const Dataset& dataset, const std::string& path);
+/// Writes `handeye-observations/1` (no images, with observations).
+void SaveObservations(const Dataset& dataset, const std::string& path);
+
+/// Reads `ground_truth.json` (or a dataset's `ground_truth` object).
+GroundTruth LoadGroundTruth(const std::string& path);
+/// Writes `handeye-ground-truth/1`, with the simulator's per-pose truth if any.
+void SaveGroundTruth(const GroundTruth& truth, const std::string& path);
+
+}  // namespace handeye

@@ -1,0 +1,24 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+
+#include <cstddef>
+#include <functional>
+
+#include "handeye/core/dataset.h"
+
+namespace handeye {
+
+struct DetectOptions {
+  /// Worker threads; 0 = all cores.
+  int threads = 0;
+  /// Called after each image with (done, total), from one thread at a time.
+  std::function<void(std::size_t, std::size_t)> progress;
+};
+
+/// Runs the target's detector on every image of the dataset, streaming the
+/// images (at most one per thread in memory), and replaces
+/// dataset->observations with what was found, in pose then camera order.
+/// Throws InputError for an image that is missing, unreadable or of the wrong size.
+void DetectAll(Dataset* dataset, const DetectOptions& options = {});
+
+}  // namespace handeye

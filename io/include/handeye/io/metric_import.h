@@ -1,0 +1,21 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "handeye/core/dataset.h"
+
+namespace handeye {
+
+/// A folder in the METRIC / original-tool layout (SPEC §8), converted.
+struct MetricImport {
+  Dataset dataset;                   ///< image paths absolute
+  std::optional<GroundTruth> truth;  ///< from FOLDER/GT/ when present
+};
+
+/// Reads FOLDER/CalibrationInfo.yaml, camera<k>/{image,pose}/ and
+/// intrinsic_pars_file.yaml. Throws InputError naming the file and key.
+MetricImport ImportMetricFolder(const std::string& folder);
+
+}  // namespace handeye

@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// @file
+/// Off-screen rendering of a target as a camera sees it: per-pixel ray
+/// casting through the camera's distortion model with supersampling, then
+/// blur, sensor noise and a cluttered background.
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <opencv2/core/mat.hpp>
+
+#include "handeye/core/camera.h"
+#include "handeye/core/target.h"
+
+namespace handeye {
+
+struct RenderOptions {
+  /// Samples per pixel along each axis where the target is seen (n×n).
+  int supersampling = 5;
+  /// Gaussian blur σ in pixels (optics), 0 for none.
+  double blur_sigma_px = 0.7;
+  /// Sensor noise σ in grey levels.
+  double noise_sigma = 2.0;
+  /// Grey levels of the target's black and white print.
+  double black_level = 25.0;
+  double white_level = 225.0;
+  /// Draw a cluttered background (otherwise flat mid grey).
+  bool clutter = true;
+  std::uint64_t seed = 1;
+
+  bool Check(std::string* why) const;
+};
+
+/// 8-bit grey image (camera.height × camera.width) of `target` at pose
+/// T_cam_target. The target is drawn only where its printed face is seen
+/// (from its -z side).
+cv::Mat RenderView(const Camera& camera, const Target& target,
+                   const Eigen::Isometry3d& T_cam_target, const RenderOptions& options);
+
+}  // namespace handeye

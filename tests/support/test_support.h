@@ -1,0 +1,17 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// Helpers shared by the test programs.
+
+#include <string>
+
+namespace handeye::test {
+
+/// A fresh, empty folder under the build tree for one test.
+std::string TempDir(const std::string& name);
+/// Writes text to a file (creating folders).
+void WriteText(const std::string& path, const std::string& text);
+/// Runs the handeye program with arguments; returns its exit code and
+/// fills *output with stdout+stderr.
+int RunHandeye(const std::string& args, std::string* output);
+
+}  // namespace handeye::test
