@@ -62,6 +62,9 @@ struct GroundTruth {
   std::map<std::string, Eigen::Isometry3d> T_cam;
   /// eye_to_hand: T_ee_target; eye_in_hand: T_base_target.
   Eigen::Isometry3d T_target = Eigen::Isometry3d::Identity();
+  /// False when the truth does not include T_target (e.g. METRIC's GT/ gives
+  /// camera poses only): T_target is then meaningless and is not written.
+  bool has_T_target = true;
 
   /// Per pose (simulator only): the true robot pose and true pixel positions.
   struct PoseTruth {
