@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// @file
+/// Hand-eye calibration of a camera network (SPEC §3, the paper's method).
+///
+/// Both setups share one chain, p_cam = X_k · M_j · Z · p_target, with
+///  - eye_to_hand: X_k = T_cam_base, M_j = T_base_ee[j], Z = T_ee_target;
+///  - eye_in_hand: X_k = T_cam_ee,   M_j = T_ee_base[j], Z = T_base_target.
+/// The result reports the inverses users want (T_base_cam / T_ee_cam) and Z.
+
+#include <Eigen/Geometry>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "handeye/core/dataset.h"
+
+namespace handeye {
+
+/// SPEC §7 `--method`.
+enum class Method {
+  kJoint,      ///< the paper: one shared Z, camera-to-camera terms, Cauchy loss
+  kPerCamera,  ///< the same reprojection solve, one Z per camera (Evangelista et al.)
+  kTsai, kPark, kHoraud, kAndreff, kDaniilidis,  ///< OpenCV calibrateHandEye, per camera
+  kShah, kLi,  ///< OpenCV calibrateRobotWorldHandEye, per camera
+  kVisp,       ///< ViSP vpHandEyeCalibration, per camera
+};
+const char* MethodName(Method method);
+std::optional<Method> ParseMethod(const std::string& name);
+/// Every method name, in the order of the paper's tables.
+std::vector<std::string> MethodNames();
+
+struct CalibrationOptions {
+  Method method = Method::kJoint;
+  /// Scale of the Cauchy loss on every reprojection residual, pixels.
+  double cauchy_scale_px = 1.0;
+  /// The paper's camera-to-camera terms c_cross (joint method only).
+  bool cross_terms = true;
+  /// Views whose PnP pose explains the detected points worse than this RMS
+  /// (pixels) are dropped before initialisation (corners that fit no plane pose).
+  double pnp_max_rms_px = 3.0;
+  int max_iterations = 200;
+  /// Threads for Ceres.
+  int threads = 1;
+
+  bool Check(std::string* why) const;
+};
+
+/// One view (a camera's image at a robot pose) as the solver saw it.
+struct ViewResult {
+  std::string pose_id;
+  std::string camera;
+  int num_points = 0;
+  bool used = true;             ///< false: rejected before the solve (PnP check)
+  std::string rejected_because; ///< why, when not used
+  double rms_px = 0;            ///< reprojection through the calibrated chain
+  double max_px = 0;
+  /// Down-weighted by the robust loss: RMS above 3 Cauchy scales.
+  bool outlier = false;
+};
+
+struct CameraResult {
+  std::string name;
+  bool calibrated = false;  ///< false: the camera never saw the target (reported, not fatal)
+  /// eye_to_hand: T_base_cam; eye_in_hand: T_ee_cam.
+  Eigen::Isometry3d T_cam = Eigen::Isometry3d::Identity();
+  /// The camera's own Z for methods that estimate one per camera.
+  std::optional<Eigen::Isometry3d> own_T_target;
+  double rms_px = 0;
+  int views = 0;           ///< views used
+  int views_rejected = 0;
+};
+
+/// T_camk_camt of a pair of cameras that saw the target at the same pose.
+struct CameraPairResult {
+  std::string camera_k, camera_t;
+  Eigen::Isometry3d T_camk_camt = Eigen::Isometry3d::Identity();
+  int shared_views = 0;
+};
+
+struct CalibrationMetrics {
+  double rms_px = 0;               ///< all points of all used views
+  double axzb_translation_mm = 0;  ///< paper eq. (real_metrics), mean over cameras and views
+  double axzb_rotation_deg = 0;
+};
+
+struct SolverSummary {
+  double seconds = 0;
+  int iterations = 0;
+  bool converged = false;
+  std::string termination;
+};
+
+struct CalibrationResult {
+  Setup setup = Setup::kEyeToHand;
+  Method method = Method::kJoint;
+  std::vector<CameraResult> cameras;  ///< dataset order
+  /// eye_to_hand: T_ee_target; eye_in_hand: T_base_target.
+  Eigen::Isometry3d T_target = Eigen::Isometry3d::Identity();
+  std::vector<CameraPairResult> camera_pairs;
+  CalibrationMetrics metrics;
+  SolverSummary solver;
+  std::vector<ViewResult> views;
+  std::vector<std::string> warnings;
+};
+
+/// Calibrates from the dataset's observations (detect first for images).
+/// Throws InputError for inconsistent input and SolveError when the problem
+/// cannot be solved (too few views, degenerate motion, no convergence).
+CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& options);
+
+}  // namespace handeye

@@ -1,0 +1,252 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Calibrate(): picks the method, runs initialisation and refinement, and
+// fills the result with per-view residuals and the paper's metrics.
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "calibration_internal.h"
+#include "handeye/core/error.h"
+#include "handeye/core/transform.h"
+
+namespace handeye {
+namespace {
+
+using internal::Problem;
+using internal::View;
+
+constexpr double kRadToDeg = 180.0 / M_PI;
+
+struct MethodEntry {
+  Method method;
+  const char* name;
+};
+constexpr MethodEntry kMethods[] = {
+    {Method::kJoint, "joint"},     {Method::kPerCamera, "per-camera"}, {Method::kTsai, "tsai"},
+    {Method::kPark, "park"},       {Method::kHoraud, "horaud"},         {Method::kAndreff, "andreff"},
+    {Method::kDaniilidis, "daniilidis"}, {Method::kShah, "shah"},        {Method::kLi, "li"},
+    {Method::kVisp, "visp"},
+};
+
+// The estimate of camera k: X_k and the Z it uses.
+struct Estimate {
+  std::vector<std::optional<Eigen::Isometry3d>> X;
+  std::vector<Eigen::Isometry3d> Z;  // per camera
+  Eigen::Isometry3d shared_Z = Eigen::Isometry3d::Identity();
+  bool per_camera_Z = false;
+};
+
+// Per-camera methods: a closed form (or per-camera refinement) on every
+// camera that has the views for it; the others are reported, not fatal.
+Estimate PerCameraEstimate(const Problem& problem, Method closed_form, std::vector<std::string>* warnings) {
+  const size_t n = problem.camera_views.size();
+  Estimate est;
+  est.X.resize(n);
+  est.Z.resize(n, Eigen::Isometry3d::Identity());
+  est.per_camera_Z = true;
+  std::vector<Eigen::Isometry3d> solved_Z;
+  for (size_t k = 0; k < n; ++k) {
+    if (problem.camera_views[k].empty()) continue;
+    std::string why;
+    const auto solved = internal::ClosedFormHandEye(problem, static_cast<int>(k), closed_form, &why);
+    if (!solved) {
+      warnings->push_back("camera '" + problem.dataset->cameras[k].name + "' not calibrated by " +
+                          MethodName(closed_form) + ": " + why);
+      continue;
+    }
+    est.X[k] = solved->first;
+    est.Z[k] = solved->second;
+    solved_Z.push_back(solved->second);
+  }
+  if (solved_Z.empty())
+    throw SolveError(std::string("method '") + MethodName(closed_form) +
+                     "' could not calibrate any camera (see warnings)");
+  est.shared_Z = internal::MeanTransform(solved_Z);
+  return est;
+}
+
+double ViewRms(const std::vector<double>& errors, double* max_error) {
+  double sum = 0;
+  *max_error = 0;
+  for (double e : errors) {
+    sum += e * e;
+    *max_error = std::max(*max_error, e);
+  }
+  return errors.empty() ? 0.0 : std::sqrt(sum / errors.size());
+}
+
+void FillResult(const Problem& problem, const Estimate& est, const CalibrationOptions& options,
+                CalibrationResult* result) {
+  const Dataset& dataset = *problem.dataset;
+  const size_t n = dataset.cameras.size();
+  std::vector<double> sq_sum(n, 0.0);
+  std::vector<int> points(n, 0);
+  double total_sq = 0;
+  int total_points = 0;
+  double axzb_t = 0, axzb_r = 0;
+  int axzb_count = 0;
+  for (const View& view : problem.views) {
+    ViewResult vr;
+    vr.pose_id = view.observation->pose_id;
+    vr.camera = view.observation->camera;
+    vr.num_points = static_cast<int>(view.p_target.size());
+    vr.used = view.used;
+    vr.rejected_because = view.rejected_because;
+    const auto& X = est.X[view.camera];
+    if (X) {
+      const Eigen::Isometry3d& Z = est.per_camera_Z ? est.Z[view.camera] : est.shared_Z;
+      const auto errors = internal::ViewErrors(problem, view, *X, Z);
+      vr.rms_px = ViewRms(errors, &vr.max_px);
+      vr.outlier = view.used && vr.rms_px > 3.0 * options.cauchy_scale_px;
+      if (view.used) {
+        for (double e : errors) sq_sum[view.camera] += e * e;
+        points[view.camera] += static_cast<int>(errors.size());
+        // Paper eq. (real_metrics): A_j X = Z' B_j, A_j = T_target_cam[j] (PnP),
+        // Z' = Z⁻¹, B_j = M_j⁻¹; both sides are T_target_base (T_target_ee).
+        const Eigen::Isometry3d AX = view.T_cam_target->inverse() * *X;
+        const Eigen::Isometry3d ZB = Z.inverse() * problem.M[view.pose].inverse();
+        axzb_t += (AX.translation() - ZB.translation()).norm();
+        axzb_r += RotationDistance(AX.rotation(), ZB.rotation());
+        ++axzb_count;
+      }
+    }
+    result->views.push_back(vr);
+  }
+  for (size_t k = 0; k < n; ++k) {
+    CameraResult cam;
+    cam.name = dataset.cameras[k].name;
+    cam.calibrated = est.X[k].has_value();
+    for (const View& view : problem.views)
+      if (view.camera == static_cast<int>(k)) (view.used ? cam.views : cam.views_rejected) += 1;
+    if (cam.calibrated) {
+      cam.T_cam = est.X[k]->inverse();
+      if (est.per_camera_Z) cam.own_T_target = est.Z[k];
+      cam.rms_px = points[k] ? std::sqrt(sq_sum[k] / points[k]) : 0.0;
+      total_sq += sq_sum[k];
+      total_points += points[k];
+    } else if (cam.views == 0) {
+      result->warnings.push_back("camera '" + cam.name + "' never saw the target: not calibrated");
+    }
+    result->cameras.push_back(cam);
+  }
+  result->T_target = est.shared_Z;
+  result->metrics.rms_px = total_points ? std::sqrt(total_sq / total_points) : 0.0;
+  if (axzb_count) {
+    result->metrics.axzb_translation_mm = 1000.0 * axzb_t / axzb_count;
+    result->metrics.axzb_rotation_deg = kRadToDeg * axzb_r / axzb_count;
+  }
+}
+
+}  // namespace
+
+const char* MethodName(Method method) {
+  for (const auto& m : kMethods)
+    if (m.method == method) return m.name;
+  return "unknown";
+}
+
+std::optional<Method> ParseMethod(const std::string& name) {
+  for (const auto& m : kMethods)
+    if (name == m.name) return m.method;
+  return std::nullopt;
+}
+
+std::vector<std::string> MethodNames() {
+  std::vector<std::string> names;
+  for (const auto& m : kMethods) names.push_back(m.name);
+  return names;
+}
+
+bool CalibrationOptions::Check(std::string* why) const {
+  auto fail = [why](const char* reason) {
+    if (why) *why = reason;
+    return false;
+  };
+  if (!(cauchy_scale_px > 0) || !std::isfinite(cauchy_scale_px)) return fail("cauchy_scale_px must be > 0");
+  if (!(pnp_max_rms_px > 0) || !std::isfinite(pnp_max_rms_px)) return fail("pnp_max_rms_px must be > 0");
+  if (max_iterations < 1) return fail("max_iterations must be >= 1");
+  if (threads < 1) return fail("threads must be >= 1");
+  return true;
+}
+
+CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& options) {
+  std::string why;
+  if (!options.Check(&why)) throw InputError("", "", "invalid calibration options: " + why);
+  const auto start = std::chrono::steady_clock::now();
+  CalibrationResult result;
+  result.setup = dataset.setup;
+  result.method = options.method;
+
+  const Problem problem = internal::BuildProblem(dataset, options);
+  int used_views = 0;
+  for (const View& view : problem.views) {
+    if (view.used) ++used_views;
+    else
+      result.warnings.push_back("view of pose '" + view.observation->pose_id + "' by camera '" +
+                                view.observation->camera + "' rejected: " + view.rejected_because);
+  }
+  if (used_views < 3)
+    throw SolveError("too few views: " + std::to_string(used_views) +
+                     " usable views of the target; take at least 3 (better 10 or more) robot poses "
+                     "with the target in view");
+  internal::CheckMotionDiversity(problem);
+
+  Estimate est;
+  if (options.method == Method::kJoint) {
+    const internal::Initialisation init = internal::InitialiseJoint(problem);
+    result.warnings.insert(result.warnings.end(), init.notes.begin(), init.notes.end());
+    const internal::Refinement refined = internal::RefineJoint(problem, init, options);
+    est.X = refined.X;
+    est.shared_Z = refined.Z[0];
+    result.solver = refined.summary;
+    for (const auto& [pair, T_kt] : refined.pairs) {
+      if (pair.first > pair.second) continue;  // report each unordered pair once, k < t
+      CameraPairResult p;
+      p.camera_k = dataset.cameras[pair.first].name;
+      p.camera_t = dataset.cameras[pair.second].name;
+      p.T_camk_camt = T_kt;
+      for (const auto& at_pose : dataset.poses) {
+        bool k_seen = false, t_seen = false;
+        for (const View& view : problem.views) {
+          if (!view.used || view.observation->pose_id != at_pose.id) continue;
+          k_seen = k_seen || view.camera == pair.first;
+          t_seen = t_seen || view.camera == pair.second;
+        }
+        p.shared_views += (k_seen && t_seen) ? 1 : 0;
+      }
+      result.camera_pairs.push_back(p);
+    }
+  } else if (options.method == Method::kPerCamera) {
+    // Each camera on its own: ViSP then the reprojection solve with its own Z.
+    est = PerCameraEstimate(problem, Method::kVisp, &result.warnings);
+    const internal::Refinement refined = internal::RefinePerCamera(problem, est.X, est.Z, options);
+    est.X = refined.X;
+    est.Z = refined.Z;
+    std::vector<Eigen::Isometry3d> solved;
+    for (size_t k = 0; k < est.X.size(); ++k)
+      if (est.X[k]) solved.push_back(est.Z[k]);
+    est.shared_Z = internal::MeanTransform(solved);
+    result.solver = refined.summary;
+  } else {
+    est = PerCameraEstimate(problem, options.method, &result.warnings);
+    result.solver.converged = true;
+    result.solver.termination = "CLOSED_FORM";
+  }
+  // Pairs for the methods without pair parameters: chained through the base.
+  if (result.camera_pairs.empty() && options.method != Method::kJoint) {
+    for (size_t k = 0; k < est.X.size(); ++k)
+      for (size_t t = k + 1; t < est.X.size(); ++t) {
+        if (!est.X[k] || !est.X[t]) continue;
+        CameraPairResult p;
+        p.camera_k = dataset.cameras[k].name;
+        p.camera_t = dataset.cameras[t].name;
+        p.T_camk_camt = *est.X[k] * est.X[t]->inverse();
+        result.camera_pairs.push_back(p);
+      }
+  }
+  FillResult(problem, est, options, &result);
+  result.solver.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace handeye

@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+// Internal pieces of the calibration engine, shared by its .cc files.
+
+#include <map>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "handeye/core/calibration.h"
+
+namespace handeye::internal {
+
+/// One observation prepared for the solver.
+struct View {
+  int camera = 0;
+  int pose = 0;
+  const Observation* observation = nullptr;
+  std::vector<Eigen::Vector3d> p_target;  ///< target points of the detected ids
+  std::optional<Eigen::Isometry3d> T_cam_target;  ///< PnP
+  double pnp_rms_px = 0;
+  bool used = true;
+  std::string rejected_because;
+};
+
+/// The dataset in the solver's terms: M_j per pose and the views.
+struct Problem {
+  const Dataset* dataset = nullptr;
+  std::vector<Eigen::Isometry3d> M;              ///< per pose, see calibration.h
+  std::vector<View> views;                       ///< every observation
+  std::vector<std::vector<int>> camera_views;    ///< used view indices per camera
+};
+
+/// Builds views, runs PnP per view and drops views whose points fit no plane pose.
+Problem BuildProblem(const Dataset& dataset, const CalibrationOptions& options);
+
+/// Throws SolveError when the used views' robot motions cannot determine Z
+/// (fewer than two motions with non-parallel rotation axes, or tiny rotations).
+/// `cameras` limits the check to those cameras (empty: all).
+void CheckMotionDiversity(const Problem& problem, const std::vector<int>& cameras = {});
+/// The same check for one camera, as a value: empty when fine, else why.
+std::string MotionDiversityProblem(const Problem& problem, const std::vector<int>& cameras);
+
+/// Chordal L2 mean of rotations and mean of translations.
+Eigen::Isometry3d MeanTransform(const std::vector<Eigen::Isometry3d>& transforms);
+
+/// X_k from a given Z and camera k's PnP views (mean of T_cam_target · Z⁻¹ · M_j⁻¹).
+std::optional<Eigen::Isometry3d> CameraFromTarget(const Problem& problem, int camera,
+                                                  const Eigen::Isometry3d& Z);
+/// Z from a given X_k and camera k's PnP views (mean of M_j⁻¹ · X_k⁻¹ · T_cam_target).
+std::optional<Eigen::Isometry3d> TargetFromCamera(const Problem& problem, int camera,
+                                                  const Eigen::Isometry3d& X);
+
+/// Closed-form hand-eye of one camera with a baseline method (tsai … li, visp).
+/// Returns (X_k, Z_k) or nullopt with the reason in *why.
+std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> ClosedFormHandEye(
+    const Problem& problem, int camera, Method method, std::string* why);
+
+/// Linear AX = XB over the motions of all cameras at once (shared Z), for
+/// cameras whose own motions are too few for a per-camera solve.
+std::optional<Eigen::Isometry3d> SharedTargetClosedForm(const Problem& problem);
+
+/// Initial X (per camera, nullopt for cameras without views) and Z for the joint solve.
+struct Initialisation {
+  std::vector<std::optional<Eigen::Isometry3d>> X;
+  Eigen::Isometry3d Z = Eigen::Isometry3d::Identity();
+  std::vector<std::string> notes;
+};
+Initialisation InitialiseJoint(const Problem& problem);
+
+/// Median over used views of the per-view RMS reprojection error for (X, Z).
+double MedianViewRms(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                     const Eigen::Isometry3d& Z);
+
+/// Reprojection errors (pixels) of one view's points through X · M_j · Z.
+std::vector<double> ViewErrors(const Problem& problem, const View& view, const Eigen::Isometry3d& X,
+                               const Eigen::Isometry3d& Z);
+
+/// Output of a nonlinear refinement.
+struct Refinement {
+  std::vector<std::optional<Eigen::Isometry3d>> X;
+  std::vector<Eigen::Isometry3d> Z;  ///< one (joint) or one per camera (per-camera)
+  std::map<std::pair<int, int>, Eigen::Isometry3d> pairs;  ///< (k, t) → T_camk_camt
+  SolverSummary summary;
+};
+/// The paper's joint solve: shared Z, optional c_cross terms.
+Refinement RefineJoint(const Problem& problem, const Initialisation& init,
+                       const CalibrationOptions& options);
+/// One Z per camera, no cross terms (for --method per-camera).
+Refinement RefinePerCamera(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                           const std::vector<Eigen::Isometry3d>& Z, const CalibrationOptions& options);
+
+}  // namespace handeye::internal

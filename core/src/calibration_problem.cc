@@ -1,0 +1,249 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Preparing the solver's views: PnP per view, its consistency check, and the
+// geometric helpers every method shares.
+#include <algorithm>
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <set>
+#include <sstream>
+
+#include "calibration_internal.h"
+#include "handeye/core/error.h"
+#include "handeye/core/transform.h"
+
+namespace handeye::internal {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+Eigen::Isometry3d FromRvecTvec(const cv::Mat& rvec, const cv::Mat& tvec) {
+  return MakeTransformFromRotationVector(
+      Eigen::Vector3d(rvec.at<double>(0), rvec.at<double>(1), rvec.at<double>(2)),
+      Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2)));
+}
+
+double PnpRms(const Camera& camera, const View& view, const Eigen::Isometry3d& T_cam_target,
+              std::vector<double>* errors = nullptr) {
+  double sum = 0;
+  for (size_t i = 0; i < view.p_target.size(); ++i) {
+    const auto uv = camera.Project(T_cam_target * view.p_target[i]);
+    const double e = uv ? (*uv - view.observation->points_px[i]).norm() : 1e6;
+    if (errors) errors->push_back(e);
+    sum += e * e;
+  }
+  return std::sqrt(sum / view.p_target.size());
+}
+
+// Target pose in the camera from a planar point set: IPPE on all points, then
+// Levenberg–Marquardt; when that does not fit, RANSAC finds the points that do.
+void SolvePnp(const Camera& camera, double max_rms_px, View* view) {
+  const size_t n = view->p_target.size();
+  if (n < 4) {
+    view->used = false;
+    view->rejected_because = "fewer than 4 points";
+    return;
+  }
+  std::vector<cv::Point3d> object;
+  std::vector<cv::Point2d> image;
+  for (size_t i = 0; i < n; ++i) {
+    object.emplace_back(view->p_target[i].x(), view->p_target[i].y(), view->p_target[i].z());
+    image.emplace_back(view->observation->points_px[i].x(), view->observation->points_px[i].y());
+  }
+  const cv::Matx33d K(camera.fx(), 0, camera.cx(), 0, camera.fy(), camera.cy(), 0, 0, 1);
+  const std::vector<double> dist = camera.Distortion();
+  cv::Mat rvec, tvec;
+  bool ok = false;
+  try {
+    ok = cv::solvePnP(object, image, K, dist, rvec, tvec, false, cv::SOLVEPNP_IPPE);
+    if (ok) cv::solvePnPRefineLM(object, image, K, dist, rvec, tvec);
+  } catch (const cv::Exception&) {
+    ok = false;
+  }
+  if (ok) {
+    const Eigen::Isometry3d T = FromRvecTvec(rvec, tvec);
+    const double rms = PnpRms(camera, *view, T);
+    if (rms <= max_rms_px) {
+      view->T_cam_target = T;
+      view->pnp_rms_px = rms;
+      return;
+    }
+  }
+  // Some corners do not fit: keep the view when a clear majority does.
+  std::vector<int> inliers;
+  try {
+    ok = cv::solvePnPRansac(object, image, K, dist, rvec, tvec, false, 200, float(max_rms_px), 0.999,
+                            inliers, cv::SOLVEPNP_EPNP);
+  } catch (const cv::Exception&) {
+    ok = false;
+  }
+  const size_t needed = std::max<size_t>(4, static_cast<size_t>(std::ceil(0.8 * n)));
+  if (ok && inliers.size() >= needed) {
+    std::vector<cv::Point3d> object_in;
+    std::vector<cv::Point2d> image_in;
+    for (int i : inliers) {
+      object_in.push_back(object[i]);
+      image_in.push_back(image[i]);
+    }
+    cv::solvePnPRefineLM(object_in, image_in, K, dist, rvec, tvec);
+    view->T_cam_target = FromRvecTvec(rvec, tvec);
+    view->pnp_rms_px = PnpRms(camera, *view, *view->T_cam_target);
+    return;
+  }
+  view->used = false;
+  std::ostringstream why;
+  why << "the detected points fit no plane pose (PnP: " << (ok ? inliers.size() : 0) << " of " << n
+      << " points within " << max_rms_px << " px)";
+  view->rejected_because = why.str();
+}
+
+struct MotionAxes {
+  std::vector<Eigen::Vector3d> axes;  // unit axes of motions above the angle threshold
+  double largest_deg = 0;
+};
+
+MotionAxes CollectMotions(const Problem& problem, const std::vector<int>& cameras) {
+  MotionAxes motions;
+  for (int k : cameras) {
+    const auto& ids = problem.camera_views[k];
+    for (size_t a = 0; a < ids.size(); ++a)
+      for (size_t b = a + 1; b < ids.size(); ++b) {
+        const Eigen::Matrix3d R = problem.M[problem.views[ids[a]].pose].rotation().transpose() *
+                                  problem.M[problem.views[ids[b]].pose].rotation();
+        const Eigen::Vector3d rv = RotationVectorFromMatrix(R);
+        const double angle = rv.norm();
+        motions.largest_deg = std::max(motions.largest_deg, angle / kDeg);
+        if (angle > 2.0 * kDeg) motions.axes.push_back(rv / angle);
+      }
+  }
+  return motions;
+}
+
+}  // namespace
+
+Problem BuildProblem(const Dataset& dataset, const CalibrationOptions& options) {
+  if (!dataset.target) throw InputError("", "/target", "a target");
+  Problem problem;
+  problem.dataset = &dataset;
+  for (const auto& pose : dataset.poses)
+    problem.M.push_back(dataset.setup == Setup::kEyeToHand ? pose.T_base_ee : pose.T_base_ee.inverse());
+  problem.camera_views.resize(dataset.cameras.size());
+  std::set<std::pair<int, int>> seen;
+  for (const auto& obs : dataset.observations) {
+    View view;
+    view.camera = dataset.CameraIndex(obs.camera);
+    view.pose = dataset.PoseIndex(obs.pose_id);
+    if (view.camera < 0)
+      throw InputError("", "/observations", "an observation names unknown camera '" + obs.camera + "'");
+    if (view.pose < 0)
+      throw InputError("", "/observations", "an observation names unknown pose '" + obs.pose_id + "'");
+    if (!seen.insert({view.pose, view.camera}).second)
+      throw InputError("", "/observations",
+                       "one observation per pose and camera; pose '" + obs.pose_id + "', camera '" +
+                           obs.camera + "' has two");
+    if (obs.ids.size() != obs.points_px.size())
+      throw InputError("", "/observations", "as many points_px as ids");
+    view.observation = &obs;
+    for (int id : obs.ids) {
+      const TargetPoint* p = dataset.target->FindPoint(id);
+      if (!p) throw InputError("", "/observations", "ids of the target; got " + std::to_string(id));
+      view.p_target.push_back(p->p_target);
+    }
+    SolvePnp(dataset.cameras[view.camera], options.pnp_max_rms_px, &view);
+    problem.views.push_back(std::move(view));
+  }
+  for (size_t i = 0; i < problem.views.size(); ++i)
+    if (problem.views[i].used) problem.camera_views[problem.views[i].camera].push_back(static_cast<int>(i));
+  return problem;
+}
+
+std::string MotionDiversityProblem(const Problem& problem, const std::vector<int>& cameras) {
+  const MotionAxes motions = CollectMotions(problem, cameras);
+  std::ostringstream why;
+  if (motions.axes.empty()) {
+    why << "degenerate robot motion: the views differ in rotation by at most " << motions.largest_deg
+        << " deg; add poses that tilt the target by 15-30 deg about at least two different axes in "
+           "view of the cameras";
+    return why.str();
+  }
+  // Two axes count as non-parallel above 5 degrees apart.
+  const double min_sin = std::sin(5.0 * kDeg);
+  for (const auto& a : motions.axes)
+    for (const auto& b : motions.axes)
+      if (a.cross(b).norm() > min_sin) return "";
+  why << "degenerate robot motion: every motion between the views rotates about the same axis; add "
+         "poses that rotate the target about a second, different axis (e.g. tilt it forward and "
+         "sideways) in view of the cameras";
+  return why.str();
+}
+
+void CheckMotionDiversity(const Problem& problem, const std::vector<int>& cameras) {
+  std::vector<int> all = cameras;
+  if (all.empty())
+    for (size_t k = 0; k < problem.camera_views.size(); ++k) all.push_back(static_cast<int>(k));
+  const std::string why = MotionDiversityProblem(problem, all);
+  if (!why.empty()) throw SolveError(why);
+}
+
+Eigen::Isometry3d MeanTransform(const std::vector<Eigen::Isometry3d>& transforms) {
+  Eigen::Matrix3d R_sum = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d t_sum = Eigen::Vector3d::Zero();
+  for (const auto& T : transforms) {
+    R_sum += T.rotation();
+    t_sum += T.translation();
+  }
+  Eigen::Isometry3d mean = Eigen::Isometry3d::Identity();
+  mean.linear() = Orthonormalise(R_sum);
+  mean.translation() = t_sum / static_cast<double>(transforms.size());
+  return mean;
+}
+
+std::optional<Eigen::Isometry3d> CameraFromTarget(const Problem& problem, int camera,
+                                                  const Eigen::Isometry3d& Z) {
+  std::vector<Eigen::Isometry3d> estimates;
+  for (int v : problem.camera_views[camera]) {
+    const View& view = problem.views[v];
+    estimates.push_back(*view.T_cam_target * Z.inverse() * problem.M[view.pose].inverse());
+  }
+  if (estimates.empty()) return std::nullopt;
+  return MeanTransform(estimates);
+}
+
+std::optional<Eigen::Isometry3d> TargetFromCamera(const Problem& problem, int camera,
+                                                  const Eigen::Isometry3d& X) {
+  std::vector<Eigen::Isometry3d> estimates;
+  for (int v : problem.camera_views[camera]) {
+    const View& view = problem.views[v];
+    estimates.push_back(problem.M[view.pose].inverse() * X.inverse() * *view.T_cam_target);
+  }
+  if (estimates.empty()) return std::nullopt;
+  return MeanTransform(estimates);
+}
+
+std::vector<double> ViewErrors(const Problem& problem, const View& view, const Eigen::Isometry3d& X,
+                               const Eigen::Isometry3d& Z) {
+  const Camera& camera = problem.dataset->cameras[view.camera];
+  const Eigen::Isometry3d T_cam_target = X * problem.M[view.pose] * Z;
+  std::vector<double> errors;
+  for (size_t i = 0; i < view.p_target.size(); ++i) {
+    const auto uv = camera.Project(T_cam_target * view.p_target[i]);
+    errors.push_back(uv ? (*uv - view.observation->points_px[i]).norm() : 1e6);
+  }
+  return errors;
+}
+
+double MedianViewRms(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                     const Eigen::Isometry3d& Z) {
+  std::vector<double> rms;
+  for (const View& view : problem.views) {
+    if (!view.used || !X[view.camera]) continue;
+    double sum = 0;
+    const auto errors = ViewErrors(problem, view, *X[view.camera], Z);
+    for (double e : errors) sum += e * e;
+    rms.push_back(std::sqrt(sum / errors.size()));
+  }
+  if (rms.empty()) return std::numeric_limits<double>::infinity();
+  std::nth_element(rms.begin(), rms.begin() + rms.size() / 2, rms.end());
+  return rms[rms.size() / 2];
+}
+
+}  // namespace handeye::internal

@@ -1,0 +1,297 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Closed-form hand-eye: the adapters to OpenCV and ViSP (the only place their
+// frame names appear), a linear shared-Z solve over all cameras, and the
+// initialisation of the joint solve.
+#include <visp3/core/vpHomogeneousMatrix.h>
+#include <visp3/vision/vpHandEyeCalibration.h>
+
+#include <Eigen/SVD>
+#include <opencv2/calib3d.hpp>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "calibration_internal.h"
+#include "handeye/core/error.h"
+#include "handeye/core/transform.h"
+
+namespace handeye::internal {
+namespace {
+
+cv::Mat RotationToCv(const Eigen::Isometry3d& T) {
+  cv::Mat R(3, 3, CV_64F);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) R.at<double>(r, c) = T.rotation()(r, c);
+  return R;
+}
+
+cv::Mat TranslationToCv(const Eigen::Isometry3d& T) {
+  return (cv::Mat_<double>(3, 1) << T.translation().x(), T.translation().y(), T.translation().z());
+}
+
+std::optional<Eigen::Isometry3d> FromCv(const cv::Mat& R, const cv::Mat& t) {
+  if (R.rows != 3 || R.cols != 3 || t.total() != 3) return std::nullopt;
+  Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) M(r, c) = R.at<double>(r, c);
+    M(r, 3) = t.at<double>(r);
+  }
+  std::string why;
+  // Closed-form solvers return rotations that are orthonormal only to their
+  // own numerical precision.
+  return RigidFromMatrix(M, /*reorthonormalise=*/true, &why);
+}
+
+vpHomogeneousMatrix ToVisp(const Eigen::Isometry3d& T) {
+  vpHomogeneousMatrix M;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) M[r][c] = T.rotation()(r, c);
+    M[r][3] = T.translation()(r);
+  }
+  return M;
+}
+
+std::optional<Eigen::Isometry3d> FromVisp(const vpHomogeneousMatrix& V) {
+  Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) M(r, c) = V[r][c];
+  std::string why;
+  return RigidFromMatrix(M, /*reorthonormalise=*/true, &why);
+}
+
+// Silences the process's standard output for its lifetime: ViSP 3.5 prints
+// its residuals with printf, and a library must not write to stdout.
+// Calibration runs on one thread; nothing else may print meanwhile.
+class QuietStdout {
+ public:
+  QuietStdout() {
+    std::fflush(stdout);
+    std::cout.flush();
+    saved_ = dup(STDOUT_FILENO);
+    const int null_fd = open("/dev/null", O_WRONLY);
+    if (saved_ >= 0 && null_fd >= 0) dup2(null_fd, STDOUT_FILENO);
+    if (null_fd >= 0) close(null_fd);
+  }
+  ~QuietStdout() {
+    std::fflush(stdout);
+    std::cout.flush();
+    if (saved_ >= 0) {
+      dup2(saved_, STDOUT_FILENO);
+      close(saved_);
+    }
+  }
+  QuietStdout(const QuietStdout&) = delete;
+  QuietStdout& operator=(const QuietStdout&) = delete;
+
+ private:
+  int saved_ = -1;
+};
+
+// ViSP solves rMe[j] · eMc · cMo[j] = const. eye_in_hand is its native case
+// (eMc = T_ee_cam = X⁻¹); for eye_to_hand the target rides on the robot, so
+// eMc = T_ee_target = Z with cMo = T_target_cam.
+std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> VispHandEye(const Problem& problem,
+                                                                           int camera,
+                                                                           std::string* why) {
+  const bool eye_to_hand = problem.dataset->setup == Setup::kEyeToHand;
+  std::vector<vpHomogeneousMatrix> rMe, cMo;
+  for (int v : problem.camera_views[camera]) {
+    const View& view = problem.views[v];
+    if (eye_to_hand) {
+      rMe.push_back(ToVisp(problem.M[view.pose]));
+      cMo.push_back(ToVisp(view.T_cam_target->inverse()));
+    } else {
+      rMe.push_back(ToVisp(problem.M[view.pose].inverse()));
+      cMo.push_back(ToVisp(*view.T_cam_target));
+    }
+  }
+  vpHomogeneousMatrix eMc;
+  int status = -1;
+  try {
+    // ViSP 3.5 prints its residuals on std::cout; a library must not.
+    const QuietStdout quiet;
+    status = vpHandEyeCalibration::calibrate(cMo, rMe, eMc);
+  } catch (const std::exception& e) {
+    *why = std::string("ViSP failed: ") + e.what();
+    return std::nullopt;
+  }
+  const auto solved = FromVisp(eMc);
+  if (status != 0 || !solved) {
+    *why = "ViSP hand-eye calibration did not find a solution";
+    return std::nullopt;
+  }
+  if (eye_to_hand) {
+    const auto X = CameraFromTarget(problem, camera, *solved);
+    return std::make_pair(*X, *solved);
+  }
+  const Eigen::Isometry3d X = solved->inverse();
+  return std::make_pair(X, *TargetFromCamera(problem, camera, X));
+}
+
+// Both setups map onto OpenCV's eye-in-hand form by passing M⁻¹ as
+// "gripper2base": M_j⁻¹ · X⁻¹ · T_cam_target[j] = Z for every j.
+std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> OpenCvHandEye(
+    const Problem& problem, int camera, cv::HandEyeCalibrationMethod method, std::string* why) {
+  std::vector<cv::Mat> R_gripper2base, t_gripper2base, R_target2cam, t_target2cam;
+  for (int v : problem.camera_views[camera]) {
+    const View& view = problem.views[v];
+    const Eigen::Isometry3d M_inv = problem.M[view.pose].inverse();
+    R_gripper2base.push_back(RotationToCv(M_inv));
+    t_gripper2base.push_back(TranslationToCv(M_inv));
+    R_target2cam.push_back(RotationToCv(*view.T_cam_target));
+    t_target2cam.push_back(TranslationToCv(*view.T_cam_target));
+  }
+  cv::Mat R_cam2gripper, t_cam2gripper;
+  try {
+    cv::calibrateHandEye(R_gripper2base, t_gripper2base, R_target2cam, t_target2cam, R_cam2gripper,
+                         t_cam2gripper, method);
+  } catch (const cv::Exception& e) {
+    *why = std::string("OpenCV calibrateHandEye failed: ") + e.what();
+    return std::nullopt;
+  }
+  const auto X_inv = FromCv(R_cam2gripper, t_cam2gripper);
+  if (!X_inv) {
+    *why = "OpenCV calibrateHandEye returned no rigid transform (NaN or degenerate)";
+    return std::nullopt;
+  }
+  const Eigen::Isometry3d X = X_inv->inverse();
+  return std::make_pair(X, *TargetFromCamera(problem, camera, X));
+}
+
+// OpenCV's robot-world form cTw · wTb = cTg · gTb with c = target, w = camera,
+// g·b = M⁻¹: T_target_cam[j] · X = Z⁻¹ · M_j⁻¹.
+std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> OpenCvRobotWorld(
+    const Problem& problem, int camera, cv::RobotWorldHandEyeCalibrationMethod method,
+    std::string* why) {
+  std::vector<cv::Mat> R_world2cam, t_world2cam, R_base2gripper, t_base2gripper;
+  for (int v : problem.camera_views[camera]) {
+    const View& view = problem.views[v];
+    const Eigen::Isometry3d T_target_cam = view.T_cam_target->inverse();
+    const Eigen::Isometry3d M_inv = problem.M[view.pose].inverse();
+    R_world2cam.push_back(RotationToCv(T_target_cam));
+    t_world2cam.push_back(TranslationToCv(T_target_cam));
+    R_base2gripper.push_back(RotationToCv(M_inv));
+    t_base2gripper.push_back(TranslationToCv(M_inv));
+  }
+  cv::Mat R_base2world, t_base2world, R_gripper2cam, t_gripper2cam;
+  try {
+    cv::calibrateRobotWorldHandEye(R_world2cam, t_world2cam, R_base2gripper, t_base2gripper,
+                                   R_base2world, t_base2world, R_gripper2cam, t_gripper2cam, method);
+  } catch (const cv::Exception& e) {
+    *why = std::string("OpenCV calibrateRobotWorldHandEye failed: ") + e.what();
+    return std::nullopt;
+  }
+  const auto X = FromCv(R_base2world, t_base2world);
+  const auto Z_inv = FromCv(R_gripper2cam, t_gripper2cam);
+  if (!X || !Z_inv) {
+    *why = "OpenCV calibrateRobotWorldHandEye returned no rigid transform (NaN or degenerate)";
+    return std::nullopt;
+  }
+  return std::make_pair(*X, Z_inv->inverse());
+}
+
+}  // namespace
+
+std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> ClosedFormHandEye(
+    const Problem& problem, int camera, Method method, std::string* why) {
+  if (problem.camera_views[camera].size() < 3) {
+    *why = "fewer than 3 usable views";
+    return std::nullopt;
+  }
+  const std::string degenerate = MotionDiversityProblem(problem, {camera});
+  if (!degenerate.empty()) {
+    *why = degenerate;
+    return std::nullopt;
+  }
+  switch (method) {
+    case Method::kTsai: return OpenCvHandEye(problem, camera, cv::CALIB_HAND_EYE_TSAI, why);
+    case Method::kPark: return OpenCvHandEye(problem, camera, cv::CALIB_HAND_EYE_PARK, why);
+    case Method::kHoraud: return OpenCvHandEye(problem, camera, cv::CALIB_HAND_EYE_HORAUD, why);
+    case Method::kAndreff: return OpenCvHandEye(problem, camera, cv::CALIB_HAND_EYE_ANDREFF, why);
+    case Method::kDaniilidis:
+      return OpenCvHandEye(problem, camera, cv::CALIB_HAND_EYE_DANIILIDIS, why);
+    case Method::kShah: return OpenCvRobotWorld(problem, camera, cv::CALIB_ROBOT_WORLD_HAND_EYE_SHAH, why);
+    case Method::kLi: return OpenCvRobotWorld(problem, camera, cv::CALIB_ROBOT_WORLD_HAND_EYE_LI, why);
+    case Method::kVisp: return VispHandEye(problem, camera, why);
+    default: *why = "not a closed-form method"; return std::nullopt;
+  }
+}
+
+std::optional<Eigen::Isometry3d> SharedTargetClosedForm(const Problem& problem) {
+  // For two views a, b of one camera, W = Z⁻¹ satisfies A·W = W·B with
+  // A = T_cam_target[b]⁻¹ · T_cam_target[a] and B = M_b⁻¹ · M_a.
+  std::vector<Eigen::Isometry3d> A, B;
+  for (const auto& ids : problem.camera_views)
+    for (size_t a = 0; a < ids.size(); ++a)
+      for (size_t b = a + 1; b < ids.size() && b <= a + 8; ++b) {
+        const View& va = problem.views[ids[a]];
+        const View& vb = problem.views[ids[b]];
+        A.push_back(vb.T_cam_target->inverse() * *va.T_cam_target);
+        B.push_back(problem.M[vb.pose].inverse() * problem.M[va.pose]);
+      }
+  if (A.size() < 2) return std::nullopt;
+  // Rotation: the axes (rotation vectors) satisfy a_i = R_W · b_i (Kabsch).
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  for (size_t i = 0; i < A.size(); ++i)
+    H += RotationVectorFromMatrix(B[i].rotation()) * RotationVectorFromMatrix(A[i].rotation()).transpose();
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1 : 1;
+  const Eigen::Matrix3d R_W = svd.matrixV() * D * svd.matrixU().transpose();
+  // Translation: (R_A − I) t_W = R_W t_B − t_A, stacked.
+  Eigen::MatrixXd C(3 * A.size(), 3);
+  Eigen::VectorXd d(3 * A.size());
+  for (size_t i = 0; i < A.size(); ++i) {
+    C.block<3, 3>(3 * i, 0) = A[i].rotation() - Eigen::Matrix3d::Identity();
+    d.segment<3>(3 * i) = R_W * B[i].translation() - A[i].translation();
+  }
+  const Eigen::Vector3d t_W = C.colPivHouseholderQr().solve(d);
+  if (!R_W.allFinite() || !t_W.allFinite()) return std::nullopt;
+  Eigen::Isometry3d W = Eigen::Isometry3d::Identity();
+  W.linear() = R_W;
+  W.translation() = t_W;
+  return W.inverse();
+}
+
+Initialisation InitialiseJoint(const Problem& problem) {
+  const size_t num_cameras = problem.camera_views.size();
+  // Candidates for the shared Z: ViSP per camera where a camera has the
+  // motions for it, and the linear solve over all cameras.
+  std::vector<std::pair<std::string, Eigen::Isometry3d>> candidates;
+  for (size_t k = 0; k < num_cameras; ++k) {
+    std::string why;
+    const auto solved = ClosedFormHandEye(problem, static_cast<int>(k), Method::kVisp, &why);
+    if (solved) candidates.emplace_back("ViSP on camera '" + problem.dataset->cameras[k].name + "'", solved->second);
+  }
+  if (const auto shared = SharedTargetClosedForm(problem))
+    candidates.emplace_back("linear solve over all cameras", *shared);
+  if (candidates.empty())
+    throw SolveError("no closed-form initialisation: no camera has 3 views with diverse rotations");
+
+  // Keep the candidate whose chain explains the views best (median view RMS):
+  // robust to one camera with poor views.
+  Initialisation best;
+  double best_score = std::numeric_limits<double>::infinity();
+  std::string best_name;
+  for (const auto& [name, Z] : candidates) {
+    Initialisation init;
+    init.Z = Z;
+    for (size_t k = 0; k < num_cameras; ++k) init.X.push_back(CameraFromTarget(problem, static_cast<int>(k), Z));
+    const double score = MedianViewRms(problem, init.X, Z);
+    if (score < best_score) {
+      best_score = score;
+      best = init;
+      best_name = name;
+    }
+  }
+  std::ostringstream note;
+  note << "initialised from " << best_name << " (median view RMS " << best_score << " px, "
+       << candidates.size() << " candidates)";
+  best.notes.push_back(note.str());
+  return best;
+}
+
+}  // namespace handeye::internal
