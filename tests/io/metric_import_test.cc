@@ -1,0 +1,210 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// METRIC / original-tool folders (SPEC §8).
+#include "handeye/io/metric_import.h"
+
+#include <catch2/catch.hpp>
+#include <filesystem>
+
+#include "handeye/core/checkerboard.h"
+#include "handeye/core/error.h"
+#include "io/io_fixtures.h"
+#include "support/test_support.h"
+
+namespace handeye {
+namespace {
+
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+// Requires ImportMetricFolder to fail naming `file` (relative to `dir`) and saying `expected`.
+void RequireImportError(const std::string& dir, const std::string& file,
+                        const std::string& expected, const std::string& json_path = "") {
+  try {
+    ImportMetricFolder(dir);
+  } catch (const InputError& e) {
+    CHECK(e.file() == (fs::path(dir) / file).string());
+    CHECK(e.json_path() == json_path);
+    CHECK_THAT(e.what(), Contains(file));
+    CHECK_THAT(e.what(), Contains(expected));
+    return;
+  }
+  FAIL("ImportMetricFolder accepted the folder; expected an error in " + file);
+}
+
+TEST_CASE("METRIC folder: cameras, target, poses and ground truth", "[io][metric]") {
+  const std::string dir = test::TempDir("metric_import");
+  test::WriteMetricFolder(dir, 1, true);
+  const MetricImport imported = ImportMetricFolder(dir);
+  const Dataset& d = imported.dataset;
+
+  CHECK(d.setup == Setup::kEyeToHand);  // calibration_setup 1 = eye-on-base
+  // cv::Size(number_of_rows = 4, number_of_columns = 3): 4 corners per OpenCV
+  // row, which are our cols.
+  const auto* board = dynamic_cast<const CheckerboardTarget*>(d.target.get());
+  REQUIRE(board);
+  CHECK(board->cols() == 4);
+  CHECK(board->rows() == 3);
+  CHECK(board->square_size_m() == 0.05);
+
+  REQUIRE(d.cameras.size() == 2);
+  CHECK(d.cameras[0].name == "camera1");
+  CHECK(d.cameras[0].width == 64);
+  CHECK(d.cameras[0].height == 48);
+  CHECK(d.cameras[0].fx() == 1360.5206198852188);
+  CHECK(d.cameras[0].cy() == 23.25);
+  // dist_k0 dist_k1 dist_px dist_py dist_k2 dist_k3 dist_k4 dist_k5 = OpenCV k1 k2 p1 p2 k3 k4 k5 k6.
+  CHECK(d.cameras[0].Distortion() ==
+        std::vector<double>{-0.01, 0.2, 0.003, -0.0002, -1.3, 0.01, 0.02, 0.03});
+  CHECK(d.cameras[1].name == "camera2");
+  CHECK(d.cameras[1].num_distortion == 0);  // has_dist_coeff: 0
+  CHECK(d.cameras[1].fx() == 800);
+  CHECK(d.cameras[1].width == 64);  // written as 64.0
+
+  // Poses: the union of stems, sorted; the same stem is the same robot pose.
+  REQUIRE(d.poses.size() == 4);
+  for (int i = 0; i < 4; ++i) {
+    const RobotPose& pose = d.poses[i];
+    CHECK(pose.id == "000" + std::to_string(i + 1));
+    CHECK((pose.T_base_ee.matrix() - test::MetricPose(i + 1).matrix()).cwiseAbs().maxCoeff() <
+          1e-15);
+  }
+  const std::string abs_dir = fs::absolute(dir).lexically_normal().string();
+  CHECK(d.poses[0].images.size() == 1);
+  CHECK(d.poses[0].images.at("camera1") == abs_dir + "/camera1/image/0001.png");
+  CHECK(d.poses[1].images.size() == 2);
+  CHECK(d.poses[2].images.at("camera2") == abs_dir + "/camera2/image/0003.jpg");
+  CHECK(d.poses[3].images.size() == 1);
+  CHECK(d.poses[3].images.at("camera2") == abs_dir + "/camera2/image/0004.tiff");
+  CHECK(d.observations.empty());
+
+  REQUIRE(imported.truth);
+  CHECK(imported.truth->setup == Setup::kEyeToHand);
+  CHECK_FALSE(imported.truth->has_T_target);
+  REQUIRE(imported.truth->T_cam.size() == 2);
+  for (int k = 1; k <= 2; ++k)
+    CHECK((imported.truth->T_cam.at("camera" + std::to_string(k)).matrix() -
+           test::MetricCamera(k).matrix())
+              .cwiseAbs()
+              .maxCoeff() < 1e-15);
+}
+
+TEST_CASE("METRIC folder without GT, eye-in-hand", "[io][metric]") {
+  const std::string dir = test::TempDir("metric_import_eih");
+  test::WriteMetricFolder(dir, 0, false);
+  const MetricImport imported = ImportMetricFolder(dir);
+  CHECK(imported.dataset.setup == Setup::kEyeInHand);
+  CHECK_FALSE(imported.truth);
+}
+
+TEST_CASE("METRIC folder: bad input names the file and what was expected", "[io][metric][bad]") {
+  const std::string dir = test::TempDir("metric_bad");
+
+  SECTION("no such folder") {
+    try {
+      ImportMetricFolder(dir + "/nope");
+      FAIL("no error");
+    } catch (const InputError& e) {
+      CHECK(e.file() == dir + "/nope");
+      CHECK_THAT(e.what(), Contains("folder does not exist"));
+    }
+  }
+  SECTION("missing CalibrationInfo.yaml") {
+    test::WriteMetricFolder(dir, 1, false);
+    fs::remove(dir + "/CalibrationInfo.yaml");
+    RequireImportError(dir, "CalibrationInfo.yaml", "file does not exist");
+  }
+  SECTION("missing pose file for an image") {
+    test::WriteMetricFolder(dir, 1, false);
+    fs::remove(dir + "/camera2/pose/0003.csv");
+    RequireImportError(dir, "camera2/pose/0003.csv",
+                       "pose file does not exist; expected one per image with the same name stem");
+  }
+  SECTION("the same stem with different poses in two cameras") {
+    test::WriteMetricFolder(dir, 1, false);
+    Eigen::Isometry3d moved = test::MetricPose(3);
+    moved.translation().x() += 1e-3;
+    test::WriteText(dir + "/camera2/pose/0003.csv", test::MatrixText(moved.matrix(), ","));
+    RequireImportError(dir, "camera2/pose/0003.csv", "differs from");
+  }
+  SECTION("a pose file that is not 4x4") {
+    test::WriteMetricFolder(dir, 1, false);
+    test::WriteText(dir + "/camera1/pose/0002.csv", "1 0 0 0\n0 1 0 0\n0 0 1 0\n");
+    RequireImportError(dir, "camera1/pose/0002.csv", "expected a 4x4 matrix");
+    test::WriteText(dir + "/camera1/pose/0002.csv", "1 0 0 0\n0 1 0 0\n0 0 1 0 7\n0 0 0 1\n");
+    RequireImportError(dir, "camera1/pose/0002.csv", "line 3 has 5 values");
+  }
+  SECTION("a pose file with a non-number") {
+    test::WriteMetricFolder(dir, 1, false);
+    test::WriteText(dir + "/camera1/pose/0002.csv", "1,0,0,0\n0,1,0,0\n0,0,1,nan\n0,0,0,1\n");
+    RequireImportError(dir, "camera1/pose/0002.csv",
+                       "line 3, value 4: expected a finite number, got 'nan'");
+  }
+  SECTION("a pose file that is not rigid") {
+    test::WriteMetricFolder(dir, 1, false);
+    test::WriteText(dir + "/camera1/pose/0001.csv", "1 0 0 0\n0 1 0.01 0\n0 0 1 0\n0 0 0 1\n");
+    RequireImportError(dir, "camera1/pose/0001.csv", "expected a rigid 4x4 transform");
+  }
+  SECTION("a missing key in CalibrationInfo.yaml") {
+    test::WriteMetricFolder(dir, 1, false);
+    test::WriteText(dir + "/CalibrationInfo.yaml",
+                    "number_of_cameras: 2\ncamera_folder_prefix: camera\npattern_type: checkerboard\n"
+                    "number_of_rows: 4\nsize: 0.05\ncalibration_setup: 1\n");
+    RequireImportError(dir, "CalibrationInfo.yaml", "missing key; expected an integer",
+                       "/number_of_columns");
+  }
+  SECTION("a bad value in CalibrationInfo.yaml") {
+    test::WriteMetricFolder(dir, 1, false);
+    test::WriteText(dir + "/CalibrationInfo.yaml",
+                    "number_of_cameras: 2\ncamera_folder_prefix: camera\npattern_type: checkerboard\n"
+                    "number_of_rows: 4\nnumber_of_columns: 3.5\nsize: 0.05\ncalibration_setup: 1\n");
+    RequireImportError(dir, "CalibrationInfo.yaml", "got '3.5' (line 5)", "/number_of_columns");
+  }
+  SECTION("an unsupported pattern") {
+    test::WriteMetricFolder(dir, 1, false);
+    test::WriteText(dir + "/CalibrationInfo.yaml",
+                    "number_of_cameras: 2\ncamera_folder_prefix: camera\npattern_type: charuco\n"
+                    "number_of_rows: 4\nnumber_of_columns: 3\nsize: 0.05\ncalibration_setup: 1\n");
+    RequireImportError(dir, "CalibrationInfo.yaml", "unsupported pattern_type 'charuco'",
+                       "/pattern_type");
+  }
+  SECTION("a line that is not key: value") {
+    test::WriteMetricFolder(dir, 1, false);
+    test::WriteText(dir + "/camera2/intrinsic_pars_file.yaml", "fx 800\n");
+    RequireImportError(dir, "camera2/intrinsic_pars_file.yaml", "line 1: expected 'key: value'");
+  }
+  SECTION("has_dist_coeff without the coefficients") {
+    test::WriteMetricFolder(dir, 1, false);
+    test::WriteText(dir + "/camera2/intrinsic_pars_file.yaml",
+                    "fx: 800\nfy: 800\ncx: 32\ncy: 24\nhas_dist_coeff: 1\nimg_width: 64\n"
+                    "img_height: 48\n");
+    RequireImportError(dir, "camera2/intrinsic_pars_file.yaml", "missing key", "/dist_k0");
+  }
+  SECTION("a missing camera folder") {
+    test::WriteMetricFolder(dir, 1, false);
+    fs::remove_all(dir + "/camera2");
+    RequireImportError(dir, "camera2", "camera folder does not exist");
+  }
+  SECTION("a camera without images") {
+    test::WriteMetricFolder(dir, 1, false);
+    for (const char* name : {"0002.png", "0003.jpg", "0004.tiff"})
+      fs::remove(dir + "/camera2/image/" + name);
+    RequireImportError(dir, "camera2/image", "no images");
+  }
+  SECTION("two images with one stem") {
+    test::WriteMetricFolder(dir, 1, false);
+    test::WriteGrayPng(dir + "/camera1/image/0002.jpg", 64, 48);
+    RequireImportError(dir, "camera1/image/0002.png", "two images share the name stem '0002'");
+  }
+  SECTION("an incomplete GT folder") {
+    test::WriteMetricFolder(dir, 1, true);
+    fs::remove(dir + "/GT/gt_cam2.csv");
+    RequireImportError(dir, "GT/gt_cam2.csv", "ground-truth file does not exist");
+  }
+  SECTION("GT with eye-in-hand") {
+    test::WriteMetricFolder(dir, 0, true);
+    RequireImportError(dir, "GT", "only defined for calibration_setup 1");
+  }
+}
+
+}  // namespace
+}  // namespace handeye
