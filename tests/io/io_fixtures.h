@@ -5,16 +5,26 @@
 
 #include <Eigen/Geometry>
 #include <cstdio>
+#include <fstream>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
+#include <sstream>
 #include <string>
 
 #include "handeye/core/transform.h"
 #include "support/test_support.h"
 
 namespace handeye::test {
+
+/// The whole content of a text file ("" when it cannot be read).
+inline std::string ReadText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
 
 /// T_base_ee of METRIC pose `index` (any integer): full-precision rotations.
 inline Eigen::Isometry3d MetricPose(int index) {

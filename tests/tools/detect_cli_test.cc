@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// `handeye detect`: exit codes and messages (SPEC §7).
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "handeye/detectors/registry.h"
+#include "handeye/io/dataset_json.h"
+#include "io/io_fixtures.h"
+#include "support/test_support.h"
+
+namespace handeye {
+namespace {
+
+using Catch::Matchers::Contains;
+
+// A dataset with one camera and three poses: two board images and one blank.
+std::string WriteSmallDataset(const std::string& dir) {
+  Dataset d;
+  TargetSpec spec;
+  spec.type = "checkerboard";
+  spec.values["inner_corners"] = std::vector<double>{5, 4};
+  spec.values["square_size_m"] = 0.03;
+  d.target = MakeTarget(spec);
+  std::string why;
+  d.cameras.push_back(*Camera::Make("camA", 240, 200, 300, 300, 120, 100, {}, &why));
+  for (int p = 0; p < 3; ++p) {
+    RobotPose pose;
+    pose.id = "p" + std::to_string(p);
+    pose.T_base_ee.translation() = Eigen::Vector3d(0.1 * p, 0.2, 0.3);
+    pose.images["camA"] = dir + "/images/" + pose.id + ".png";
+    test::WriteText(pose.images["camA"], "");
+    const cv::Mat image = p == 1 ? cv::Mat(200, 240, CV_8UC1, cv::Scalar(128))
+                                 : test::DrawBoard(5, 4, 24, 40 + 10 * p, 50, 240, 200);
+    REQUIRE(cv::imwrite(pose.images["camA"], image));
+    d.poses.push_back(pose);
+  }
+  SaveDataset(d, dir + "/dataset.json");
+  return dir + "/dataset.json";
+}
+
+TEST_CASE("handeye detect writes observations and a per-camera summary", "[tools][detect]") {
+  const std::string dir = test::TempDir("cli_detect");
+  const std::string dataset = WriteSmallDataset(dir);
+  std::string out;
+  REQUIRE(test::RunHandeye("detect '" + dataset + "' -o '" + dir + "/obs.json' --threads 2", &out) ==
+          0);
+  CHECK_THAT(out, Contains("camA: 3 images, target found in 2"));
+  const Dataset obs = LoadDataset(dir + "/obs.json");
+  REQUIRE(obs.observations.size() == 2);
+  CHECK(obs.observations[0].pose_id == "p0");
+  CHECK(obs.observations[1].pose_id == "p2");
+  CHECK(obs.observations[0].ids.size() == 20);
+}
+
+TEST_CASE("handeye detect: bad input exits with 2 and says what is wrong", "[tools][detect][bad]") {
+  const std::string dir = test::TempDir("cli_detect_bad");
+  const std::string dataset = WriteSmallDataset(dir);
+  std::string out;
+
+  SECTION("missing dataset file") {
+    CHECK(test::RunHandeye("detect '" + dir + "/nope.json' -o '" + dir + "/obs.json'", &out) == 2);
+    CHECK_THAT(out, Contains("error: " + dir + "/nope.json: file does not exist"));
+  }
+  SECTION("a non-rigid robot pose, accepted with --reorthonormalise") {
+    nlohmann::json j = nlohmann::json::parse(test::ReadText(dataset));
+    j["poses"][1]["T_base_ee"][0][1] = 1e-4;
+    test::WriteText(dataset, j.dump(2));
+    CHECK(test::RunHandeye("detect '" + dataset + "' -o '" + dir + "/obs.json'", &out) == 2);
+    CHECK_THAT(out, Contains(dataset + ": at /poses/1/T_base_ee: expected a rigid 4x4 transform"));
+    CHECK_FALSE(std::filesystem::exists(dir + "/obs.json"));
+    CHECK(test::RunHandeye("detect '" + dataset + "' -o '" + dir + "/obs.json' --reorthonormalise",
+                           &out) == 0);
+  }
+  SECTION("a missing image") {
+    std::filesystem::remove(dir + "/images/p2.png");
+    CHECK(test::RunHandeye("detect '" + dataset + "' -o '" + dir + "/obs.json'", &out) == 2);
+    CHECK_THAT(out, Contains("error: " + dir + "/images/p2.png: image file does not exist"));
+    CHECK_FALSE(std::filesystem::exists(dir + "/obs.json"));
+  }
+  SECTION("an observations file has no images to detect in") {
+    REQUIRE(test::RunHandeye("detect '" + dataset + "' -o '" + dir + "/obs.json'", &out) == 0);
+    CHECK(test::RunHandeye("detect '" + dir + "/obs.json' -o '" + dir + "/obs2.json'", &out) == 2);
+    CHECK_THAT(out, Contains(dir + "/obs.json: at /poses: no images to detect in"));
+  }
+  SECTION("an output folder that does not exist") {
+    CHECK(test::RunHandeye("detect '" + dataset + "' -o '" + dir + "/no/obs.json'", &out) == 2);
+    CHECK_THAT(out, Contains("cannot write: folder"));
+  }
+  SECTION("bad command line") {
+    CHECK(test::RunHandeye("detect '" + dataset + "'", &out) == 2);
+    CHECK_THAT(out, Contains("--output is required"));
+    CHECK(test::RunHandeye("detect '" + dataset + "' -o x.json --threads -1", &out) == 2);
+    CHECK_THAT(out, Contains("--threads"));
+  }
+}
+
+}  // namespace
+}  // namespace handeye
