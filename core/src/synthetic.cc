@@ -237,6 +237,7 @@ class SceneBuilder {
     scene_.dataset.setup = options_.setup;
     scene_.dataset.target = target_;
     scene_.truth.setup = options_.setup;
+    scene_.truth.has_T_target = true;
     MakeCameras();
     if (options_.setup == Setup::kEyeToHand) {
       PlaceCamerasAroundRobot();

@@ -88,6 +88,7 @@ TEST_CASE("A seed gives the same scene; another seed a different one", "[synthet
     const SyntheticScene c = MakeScene(Options("medium", setup, 8), DefaultBoard());
     REQUIRE(a.dataset.cameras.size() == 4);
     REQUIRE(a.dataset.poses.size() == 20);
+    CHECK(a.truth.has_T_target);
     REQUIRE(b.truth.poses.size() == a.truth.poses.size());
     CHECK(SameTransform(a.truth.T_target, b.truth.T_target));
     CHECK_FALSE(SameTransform(a.truth.T_target, c.truth.T_target));
