@@ -13,6 +13,10 @@ namespace handeye {
 /// Renders every view of the scene in which the target is visible and writes
 /// OUTDIR/dataset.json, OUTDIR/ground_truth.json and OUTDIR/images/<camera>/<pose>.png.
 /// Fills scene->dataset.poses[*].images. `progress(done, total)` after each image.
+/// Each image gets its own noise/background seed derived from `render.seed`
+/// and the view, so the files do not depend on `threads`; camera k's blur is
+/// `render.blur_sigma_px` times a per-camera factor in [2/3, 4/3] (lenses
+/// differ), also fixed by `render.seed`.
 void WriteSimulation(SyntheticScene* scene, const RenderOptions& render, const std::string& outdir,
                      int threads = 0,
                      const std::function<void(std::size_t, std::size_t)>& progress = {});

@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Writes a simulated dataset: one rendered PNG per view that counts, then the
+// dataset and its ground truth. Views are rendered by a pool of threads, each
+// holding one image in memory at a time; every image has its own seed derived
+// from the render seed and the view, so the output does not depend on the
+// number of threads.
+
+#include "handeye/io/simulation.h"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <filesystem>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "handeye/core/error.h"
+#include "handeye/io/dataset_json.h"
+#include "handeye/io/image.h"
+
+namespace handeye {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// SplitMix64's finaliser: spreads nearby inputs (view indices) over all 64 bits.
+std::uint64_t Mix(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+/// Real lenses differ in sharpness: camera k's blur is the requested σ times
+/// a factor in [2/3, 4/3] fixed by the seed (so 0.75 px gives 0.5–1.0 px).
+double CameraBlur(double mean_sigma_px, std::uint64_t seed, std::size_t camera) {
+  const double unit = static_cast<double>(Mix(seed ^ Mix(0xb1u + camera)) >> 11) * 0x1.0p-53;
+  return mean_sigma_px * (2.0 / 3.0 + unit * 2.0 / 3.0);
+}
+
+struct View {
+  std::size_t pose = 0;
+  std::size_t camera = 0;
+  std::string path;
+};
+
+}  // namespace
+
+void WriteSimulation(SyntheticScene* scene, const RenderOptions& render, const std::string& outdir,
+                     int threads, const std::function<void(std::size_t, std::size_t)>& progress) {
+  std::string why;
+  if (!render.Check(&why)) throw std::invalid_argument("WriteSimulation: bad render options: " + why);
+  Dataset& dataset = scene->dataset;
+  if (!dataset.target) throw std::invalid_argument("WriteSimulation: scene without a target");
+  if (scene->truth.poses.size() != dataset.poses.size())
+    throw std::invalid_argument("WriteSimulation: scene truth does not match its poses");
+
+  // Absolute paths, so the dataset writer can make them relative to its file
+  // whatever the working directory.
+  const fs::path root = fs::absolute(fs::path(outdir)).lexically_normal();
+  std::vector<View> views;
+  for (std::size_t j = 0; j < scene->truth.poses.size(); ++j) {
+    dataset.poses[j].images.clear();
+    for (std::size_t k = 0; k < dataset.cameras.size(); ++k) {
+      const std::string& name = dataset.cameras[k].name;
+      if (!scene->truth.poses[j].points_px.count(name)) continue;
+      const fs::path path = root / "images" / name / (dataset.poses[j].id + ".png");
+      views.push_back({j, k, path.string()});
+      dataset.poses[j].images[name] = path.string();
+    }
+  }
+  for (const Camera& camera : dataset.cameras) {
+    std::error_code ec;
+    fs::create_directories(root / "images" / camera.name, ec);
+    if (ec) throw InputError((root / "images" / camera.name).string(), "",
+                             "cannot create the folder: " + ec.message());
+  }
+
+  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  threads = static_cast<int>(std::min<std::size_t>(threads, std::max<std::size_t>(1, views.size())));
+
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> failed{false};
+  std::mutex mutex;  // guards done, first_error and the progress callback
+  std::size_t done = 0;
+  std::exception_ptr first_error;
+  auto work = [&]() {
+    while (!failed) {
+      const std::size_t i = next++;
+      if (i >= views.size()) return;
+      const View& view = views[i];
+      try {
+        RenderOptions options = render;
+        options.seed = Mix(render.seed ^ Mix(view.pose * 0x10001u + view.camera));
+        options.blur_sigma_px = CameraBlur(render.blur_sigma_px, render.seed, view.camera);
+        const cv::Mat image =
+            RenderView(dataset.cameras[view.camera], *dataset.target,
+                       TrueCameraFromTarget(*scene, static_cast<int>(view.camera),
+                                            static_cast<int>(view.pose)),
+                       options);
+        WritePng(view.path, image);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!first_error) first_error = std::current_exception();
+        failed = true;
+        return;
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      ++done;
+      if (progress) progress(done, views.size());
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& thread : pool) thread.join();
+  if (first_error) std::rethrow_exception(first_error);
+
+  SaveDataset(dataset, (root / "dataset.json").string());
+  SaveGroundTruth(scene->truth, (root / "ground_truth.json").string());
+}
+
+}  // namespace handeye

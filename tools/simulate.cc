@@ -1,0 +1,187 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// `handeye simulate OUTDIR`: renders a synthetic workcell (SPEC §7) into
+// OUTDIR/dataset.json, OUTDIR/ground_truth.json and OUTDIR/images/.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include "commands.h"
+#include "handeye/core/error.h"
+#include "handeye/core/synthetic.h"
+#include "handeye/detectors/registry.h"
+#include "handeye/io/simulation.h"
+
+namespace handeye::tools {
+namespace {
+
+// Default board: 7×4 inner corners of 40 mm. cols + rows is odd, so it is not
+// 180°-ambiguous; its 8×5 squares (320 × 200 mm, 400 × 280 mm with the white
+// margin) fit on an A3 sheet, compact enough to carry on a flange without
+// collisions; and a 40 mm square still spans ≈ 18 px at 4 m in the large cell.
+constexpr int kDefaultCols = 7, kDefaultRows = 4;
+constexpr double kDefaultSquareM = 0.04;
+// METRIC's A4 board: 4×3 inner corners, 50 mm.
+constexpr int kMetricCols = 4, kMetricRows = 3;
+constexpr double kMetricSquareM = 0.05;
+
+struct SimulateArgs {
+  std::string outdir;
+  std::string cell;
+  std::string preset;
+  int cameras = 4;
+  int poses = 20;
+  std::string target = "checkerboard";
+  std::string board;
+  double square_m = 0;
+  bool square_given = false;
+  std::string setup = "eye_to_hand";
+  std::uint64_t seed = 1;
+  double pose_noise_mm = 0;
+  double pose_noise_deg = 0;
+  bool no_distortion = false;
+  double blur_px = 0.75;
+  double noise = 2.0;
+  int threads = 0;
+  std::string image_size;
+};
+
+InputError BadOption(const std::string& option, const std::string& expected) {
+  return InputError("", option, expected);
+}
+
+/// "AxB" with two positive integers, e.g. "7x4" or "1920x1080".
+std::pair<int, int> ParsePair(const std::string& option, const std::string& text,
+                              const std::string& what) {
+  int a = 0, b = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &a, &x, &b, &extra) != 3 || (x != 'x' && x != 'X') ||
+      a <= 0 || b <= 0)
+    throw BadOption(option, "expected " + what + ", got '" + text + "'");
+  return {a, b};
+}
+
+SceneOptions MakeSceneOptions(const SimulateArgs& args) {
+  SceneOptions options;
+  if (!args.preset.empty() && !args.cell.empty())
+    throw BadOption("--preset", "expected either --cell or --preset, not both");
+  if (!args.preset.empty() && args.preset != "metric-medium")
+    throw BadOption("--preset", "expected metric-medium, got '" + args.preset + "'");
+  options.cell = !args.preset.empty() ? args.preset : !args.cell.empty() ? args.cell : "medium";
+  if (options.cell == "metric-medium" && args.preset.empty())
+    throw BadOption("--cell", "expected small, medium or large (metric-medium is a --preset)");
+  const auto setup = ParseSetup(args.setup);
+  if (!setup) throw BadOption("--setup", "expected eye_to_hand or eye_in_hand, got '" + args.setup + "'");
+  options.setup = *setup;
+  options.num_cameras = args.cameras;
+  options.num_poses = args.poses;
+  options.seed = args.seed;
+  options.distortion = !args.no_distortion;
+  options.pose_noise_mm = args.pose_noise_mm;
+  options.pose_noise_deg = args.pose_noise_deg;
+  if (!args.image_size.empty()) {
+    const auto [w, h] = ParsePair("--image-size", args.image_size, "WIDTHxHEIGHT in pixels");
+    options.width = w;
+    options.height = h;
+  }
+  std::string why;
+  if (!options.Check(&why)) throw BadOption("", "bad scene options: expected " + why);
+  return options;
+}
+
+std::shared_ptr<const Target> MakeSimulatedTarget(const SimulateArgs& args, bool metric) {
+  TargetSpec spec;
+  spec.type = args.target;
+  if (args.target == "checkerboard") {
+    int cols = metric ? kMetricCols : kDefaultCols, rows = metric ? kMetricRows : kDefaultRows;
+    if (!args.board.empty())
+      std::tie(cols, rows) = ParsePair("--board", args.board, "COLSxROWS inner corners");
+    spec.values["inner_corners"] = std::vector<double>{double(cols), double(rows)};
+    spec.values["square_size_m"] =
+        args.square_given ? args.square_m : metric ? kMetricSquareM : kDefaultSquareM;
+  } else if (!args.board.empty() || args.square_given) {
+    throw BadOption("--board", "expected --board and --square only with --target checkerboard");
+  }
+  try {
+    return MakeTarget(spec);
+  } catch (const InputError& e) {
+    throw InputError("", "--target" + e.json_path(), e.expected());
+  }
+}
+
+void RunSimulate(const SimulateArgs& args) {
+  const SceneOptions scene_options = MakeSceneOptions(args);
+  if (args.square_given && !(std::isfinite(args.square_m) && args.square_m > 0))
+    throw BadOption("--square", "expected a positive square size in metres");
+  const auto target = MakeSimulatedTarget(args, scene_options.cell == "metric-medium");
+  PrintWarnings(target->Warnings());
+
+  RenderOptions render;
+  render.blur_sigma_px = args.blur_px;
+  render.noise_sigma = args.noise;
+  render.seed = args.seed;
+  std::string why;
+  if (!render.Check(&why)) throw BadOption("--blur/--noise", "expected " + why);
+  if (args.threads < 0) throw BadOption("--threads", "expected 0 (all cores) or more");
+
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(args.outdir, ec);
+  if (!fs::is_directory(args.outdir, ec))
+    throw InputError(args.outdir, "", "cannot create the output folder");
+
+  SyntheticScene scene = MakeScene(scene_options, target);
+  WriteSimulation(&scene, render, args.outdir, args.threads, ProgressLine("rendering"));
+
+  std::map<std::string, int> views_per_camera;
+  int views = 0, shared = 0;
+  for (const auto& pose : scene.truth.poses) {
+    for (const auto& [camera, obs] : pose.points_px) ++views_per_camera[camera];
+    views += static_cast<int>(pose.points_px.size());
+    shared += pose.points_px.size() >= 2 ? 1 : 0;
+  }
+  std::ostringstream per_camera;
+  for (const auto& camera : scene.dataset.cameras)
+    per_camera << (per_camera.tellp() > 0 ? ", " : "") << camera.name << " "
+               << views_per_camera[camera.name];
+  std::cout << "simulated " << SetupName(scene_options.setup) << " " << scene_options.cell
+            << " cell: " << scene.dataset.cameras.size() << " cameras, " << scene.dataset.poses.size()
+            << " poses, " << views << " views rendered (" << per_camera.str() << "), " << shared
+            << " poses seen by 2+ cameras -> " << args.outdir << "\n";
+}
+
+}  // namespace
+
+void RegisterSimulate(CLI::App& app) {
+  auto args = std::make_shared<SimulateArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "simulate", "render a synthetic workcell dataset with ground_truth.json");
+  cmd->add_option("OUTDIR", args->outdir, "folder to write dataset.json, ground_truth.json and images/")
+      ->required();
+  cmd->add_option("--cell", args->cell, "cell size: small (~1.5 m), medium (~2.5 m), large (~4 m); default medium");
+  cmd->add_option("--preset", args->preset,
+                  "metric-medium: METRIC's synthetic medium cell (4 cameras, fx 1371.02, 4x3 board of 50 mm)");
+  cmd->add_option("--cameras", args->cameras, "number of cameras (1..64)");
+  cmd->add_option("--poses", args->poses, "number of robot poses");
+  cmd->add_option("--target", args->target, "target type (default checkerboard)");
+  cmd->add_option("--board", args->board, "checkerboard inner corners COLSxROWS (default 7x4; metric-medium 4x3)");
+  cmd->add_option("--square", args->square_m, "checkerboard square size in metres (default 0.04; metric-medium 0.05)");
+  cmd->add_option("--setup", args->setup, "eye_to_hand (default) or eye_in_hand");
+  cmd->add_option("--seed", args->seed, "random seed; the same seed gives the same dataset");
+  cmd->add_option("--pose-noise-mm", args->pose_noise_mm, "robot translation noise sigma per axis (mm) on the reported poses");
+  cmd->add_option("--pose-noise-deg", args->pose_noise_deg, "robot rotation noise sigma (deg) on the reported poses");
+  cmd->add_flag("--no-distortion", args->no_distortion, "cameras without lens distortion");
+  cmd->add_option("--blur", args->blur_px, "mean optical blur sigma (px); each camera gets 2/3..4/3 of it (default 0.75)");
+  cmd->add_option("--noise", args->noise, "sensor noise sigma in grey levels (default 2)");
+  cmd->add_option("--threads", args->threads, "rendering threads (0 = all cores)");
+  cmd->add_option("--image-size", args->image_size, "image size WIDTHxHEIGHT (default 1920x1080)");
+  cmd->callback([args, cmd]() {
+    args->square_given = cmd->count("--square") > 0;
+    RunSimulate(*args);
+  });
+}
+
+}  // namespace handeye::tools
