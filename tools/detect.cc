@@ -52,8 +52,8 @@ void RunDetect(const DetectArgs& args) {
   std::map<std::string, int> found_per_camera;
   for (const auto& view : dataset.observations) ++found_per_camera[view.camera];
   for (const auto& camera : dataset.cameras)
-    std::cerr << camera.name << ": " << images_per_camera[camera.name] << " images, target found in "
-              << found_per_camera[camera.name] << "\n";
+    std::cerr << camera.name << ": " << images_per_camera[camera.name]
+              << " images, target found in " << found_per_camera[camera.name] << "\n";
   SaveObservations(dataset, args.output);
   std::cerr << "wrote " << args.output << " (" << dataset.observations.size() << " views)\n";
 }
@@ -62,9 +62,11 @@ void RunDetect(const DetectArgs& args) {
 
 void RegisterDetect(CLI::App& app) {
   auto args = std::make_shared<DetectArgs>();
-  CLI::App* cmd = app.add_subcommand("detect", "run the target's detector on every image of a dataset");
+  CLI::App* cmd =
+      app.add_subcommand("detect", "run the target's detector on every image of a dataset");
   cmd->add_option("DATASET", args->dataset, "handeye-dataset/1 file")->required();
-  cmd->add_option("-o,--output", args->output, "observations file to write (handeye-observations/1)")
+  cmd->add_option("-o,--output", args->output,
+                  "observations file to write (handeye-observations/1)")
       ->required();
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::NonNegativeNumber);

@@ -71,8 +71,10 @@ Camera ReadCamera(const JsonReader& r) {
   const JsonReader name_json = r.Key("name");
   const std::string name = name_json.NonEmptyString("a camera name");
   if (name.find('/') != std::string::npos)
-    throw name_json.Error("expected a camera name without '/' (it separates the names of a "
-                          "camera pair), got \"" + name + "\"");
+    throw name_json.Error(
+        "expected a camera name without '/' (it separates the names of a "
+        "camera pair), got \"" +
+        name + "\"");
   const JsonReader size = r.Key("image_size");
   const std::string size_expected = "[width, height] in pixels";
   if (size.ArraySize(size_expected) != 2)
@@ -145,8 +147,8 @@ void ReadPoses(const JsonReader& r, bool with_images, const LoadOptions& options
       for (const auto& [camera, image] :
            entry.Key("images").Members("an object {camera name: image path}")) {
         if (dataset->CameraIndex(camera) < 0)
-          throw image.Error("unknown camera '" + camera + "'; the cameras are: " +
-                            CameraList(*dataset));
+          throw image.Error("unknown camera '" + camera +
+                            "'; the cameras are: " + CameraList(*dataset));
         pose.images[camera] = ResolveImagePath(r.file(), image.NonEmptyString("an image path"));
       }
     }
@@ -168,10 +170,10 @@ void ReadIdsAndPixels(const JsonReader& ids_json, const JsonReader& px_json, con
                                  ids_json.path() + "/" + std::to_string(it->second) + ")");
     if (target && !target->FindPoint(id)) {
       const auto& points = target->Points();
-      throw ids_json.At(k).Error(
-          "id " + std::to_string(id) + " is not a point of the '" + target->Type() +
-          "' target (its " + std::to_string(points.size()) + " points have ids " +
-          std::to_string(points.front().id) + ".." + std::to_string(points.back().id) + ")");
+      throw ids_json.At(k).Error("id " + std::to_string(id) + " is not a point of the '" +
+                                 target->Type() + "' target (its " + std::to_string(points.size()) +
+                                 " points have ids " + std::to_string(points.front().id) + ".." +
+                                 std::to_string(points.back().id) + ")");
     }
   }
   view->points_px = px_json.Points2();
@@ -192,12 +194,13 @@ void ReadObservations(const JsonReader& r, Dataset* dataset) {
     const JsonReader pose = entry.Key("pose");
     view.pose_id = pose.NonEmptyString("a pose id");
     if (dataset->PoseIndex(view.pose_id) < 0)
-      throw pose.Error("unknown pose '" + view.pose_id + "'; expected the id of an entry of /poses");
+      throw pose.Error("unknown pose '" + view.pose_id +
+                       "'; expected the id of an entry of /poses");
     const JsonReader camera = entry.Key("camera");
     view.camera = camera.NonEmptyString("a camera name");
     if (dataset->CameraIndex(view.camera) < 0)
-      throw camera.Error("unknown camera '" + view.camera + "'; the cameras are: " +
-                         CameraList(*dataset));
+      throw camera.Error("unknown camera '" + view.camera +
+                         "'; the cameras are: " + CameraList(*dataset));
     const auto [it, inserted] =
         path_of_view.emplace(std::make_pair(view.pose_id, view.camera), entry.path());
     if (!inserted)
@@ -206,8 +209,9 @@ void ReadObservations(const JsonReader& r, Dataset* dataset) {
     const JsonReader ids = entry.Key("ids");
     ReadIdsAndPixels(ids, entry.Key("points_px"), dataset->target.get(), &view);
     if (view.ids.empty())
-      throw ids.Error("expected at least one id (a view where the target was not found has no "
-                      "entry)");
+      throw ids.Error(
+          "expected at least one id (a view where the target was not found has no "
+          "entry)");
     dataset->observations.push_back(std::move(view));
   }
 }
@@ -354,8 +358,8 @@ Dataset LoadDataset(const std::string& path, const LoadOptions& options,
   const JsonReader root(&doc, path);
   root.ExpectObject(std::string("a ") + kDatasetFormat + " or " + kObservationsFormat + " object");
   const JsonReader format_json = root.Key("format");
-  const std::string format = format_json.NonEmptyString(
-      std::string("\"") + kDatasetFormat + "\" or \"" + kObservationsFormat + "\"");
+  const std::string format = format_json.NonEmptyString(std::string("\"") + kDatasetFormat +
+                                                        "\" or \"" + kObservationsFormat + "\"");
   if (format != kDatasetFormat && format != kObservationsFormat)
     throw format_json.Error(UnsupportedFormat(format));
   const bool observations = format == kObservationsFormat;
@@ -387,14 +391,17 @@ void SaveDataset(const Dataset& dataset, const std::string& path) {
     OrderedJson p = OrderedJson::object();
     p["id"] = pose.id;
     p["T_base_ee"] = JsonFromTransform(pose.T_base_ee);
+    // A file LoadDataset would reject is never written.
+    for (const auto& [camera, image] : pose.images)
+      if (dataset.CameraIndex(camera) < 0)
+        throw std::invalid_argument("SaveDataset: pose '" + pose.id + "' has an image of camera '" +
+                                    camera + "', which the dataset does not have");
     OrderedJson images = OrderedJson::object();
     // Camera order, not name order, so the file lists views as the dataset does.
     for (const auto& camera : dataset.cameras) {
       auto it = pose.images.find(camera.name);
       if (it != pose.images.end()) images[camera.name] = RelativeImagePath(it->second, path);
     }
-    for (const auto& [camera, image] : pose.images)
-      if (!images.contains(camera)) images[camera] = RelativeImagePath(image, path);
     p["images"] = images;
     poses.push_back(p);
   }
@@ -430,7 +437,8 @@ GroundTruth LoadGroundTruth(const std::string& path) {
   const JsonReader root(&doc, path);
   root.ExpectObject(std::string("a ") + kGroundTruthFormat + " object");
   const JsonReader format_json = root.Key("format");
-  const std::string format = format_json.NonEmptyString(std::string("\"") + kGroundTruthFormat + "\"");
+  const std::string format =
+      format_json.NonEmptyString(std::string("\"") + kGroundTruthFormat + "\"");
   if (format == kGroundTruthFormat) return ReadGroundTruth(root, std::nullopt);
   if (format == kDatasetFormat || format == kObservationsFormat) {
     if (!root.Has("ground_truth"))

@@ -53,7 +53,8 @@ void DetectAll(Dataset* dataset, const DetectOptions& options) {
 
   unsigned threads = options.threads > 0 ? static_cast<unsigned>(options.threads)
                                          : std::max(1u, std::thread::hardware_concurrency());
-  threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(1, tasks.size())));
+  threads =
+      static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(1, tasks.size())));
 
   std::atomic<std::size_t> next{0};
   std::atomic<bool> stop{false};

@@ -93,7 +93,8 @@ std::string LocateLiteral(const std::string& text, const std::string& literal) {
   for (std::size_t pos = text.find(literal); pos != std::string::npos;
        pos = text.find(literal, pos + 1)) {
     const std::size_t end = pos + literal.size();
-    if ((pos > 0 && is_number_char(text[pos - 1])) || (end < text.size() && is_number_char(text[end])))
+    if ((pos > 0 && is_number_char(text[pos - 1])) ||
+        (end < text.size() && is_number_char(text[end])))
       continue;
     const std::size_t line = 1 + std::count(text.begin(), text.begin() + pos, '\n');
     const std::size_t line_start = pos == 0 ? std::string::npos : text.rfind('\n', pos - 1);
@@ -123,9 +124,8 @@ std::size_t EditDistance(const std::string& a, const std::string& b) {
 std::string Quote(const std::string& s) { return "'" + s + "'"; }
 
 bool IsInlineArray(const OrderedJson& j) {
-  return j.is_array() && std::all_of(j.begin(), j.end(), [](const OrderedJson& e) {
-           return !e.is_structured();
-         });
+  return j.is_array() &&
+         std::all_of(j.begin(), j.end(), [](const OrderedJson& e) { return !e.is_structured(); });
 }
 
 std::string DumpScalar(const OrderedJson& j) {
@@ -278,8 +278,8 @@ std::vector<std::pair<std::string, JsonReader>> JsonReader::Members(const std::s
   ExpectObject(what);
   std::vector<std::pair<std::string, JsonReader>> members;
   for (auto it = value_->begin(); it != value_->end(); ++it)
-    members.emplace_back(it.key(), JsonReader(&it.value(), file_,
-                                              path_ + "/" + JsonPointerEscape(it.key())));
+    members.emplace_back(it.key(),
+                         JsonReader(&it.value(), file_, path_ + "/" + JsonPointerEscape(it.key())));
   return members;
 }
 

@@ -63,17 +63,19 @@ class FlatYaml {
       // `%YAML:1.0` and `---` are what cv::FileStorage writes; harmless here.
       if (text.empty() || text[0] == '#' || text[0] == '%' || text == "---") continue;
       if (line[0] == ' ' || line[0] == '\t')
-        throw InputError(path_, "", "line " + std::to_string(number) +
-                                        ": nested YAML is not supported; expected flat "
-                                        "'key: value' lines");
+        throw InputError(path_, "",
+                         "line " + std::to_string(number) +
+                             ": nested YAML is not supported; expected flat "
+                             "'key: value' lines");
       const auto colon = text.find(':');
       const std::string key = colon == std::string::npos ? "" : Trim(text.substr(0, colon));
       const bool key_ok = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
         return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
       });
       if (!key_ok)
-        throw InputError(path_, "", "line " + std::to_string(number) +
-                                        ": expected 'key: value', got '" + text + "'");
+        throw InputError(
+            path_, "",
+            "line " + std::to_string(number) + ": expected 'key: value', got '" + text + "'");
       std::string value = text.substr(colon + 1);
       // A '#' after whitespace starts a comment (YAML's rule).
       for (std::size_t i = 1; i < value.size(); ++i)
@@ -87,9 +89,9 @@ class FlatYaml {
         value = value.substr(1, value.size() - 2);
       const auto [it, inserted] = values_.emplace(key, Entry{value, number});
       if (!inserted)
-        throw InputError(path_, "/" + key, "duplicate key on line " + std::to_string(number) +
-                                               " (also on line " +
-                                               std::to_string(it->second.line) + ")");
+        throw InputError(path_, "/" + key,
+                         "duplicate key on line " + std::to_string(number) + " (also on line " +
+                             std::to_string(it->second.line) + ")");
     }
   }
 
@@ -140,14 +142,15 @@ class FlatYaml {
 
   const Entry& Require(const std::string& key, const std::string& expected) const {
     auto it = values_.find(key);
-    if (it == values_.end()) throw InputError(path_, "/" + key, "missing key; expected " + expected);
+    if (it == values_.end())
+      throw InputError(path_, "/" + key, "missing key; expected " + expected);
     return it->second;
   }
 
   InputError Fail(const std::string& key, const Entry& e, const std::string& expected) const {
-    return InputError(path_, "/" + key,
-                      "expected " + expected + ", got '" + e.text + "' (line " +
-                          std::to_string(e.line) + ")");
+    return InputError(
+        path_, "/" + key,
+        "expected " + expected + ", got '" + e.text + "' (line " + std::to_string(e.line) + ")");
   }
 
   std::string path_;
@@ -160,8 +163,7 @@ Eigen::Matrix4d ReadMatrixCsv(const fs::path& path) {
   const std::string file = path.string();
   std::ifstream in(path);
   if (!in) throw InputError(file, "", "cannot read the file");
-  const std::string expected =
-      "a 4x4 matrix: 4 lines of 4 numbers separated by spaces or commas";
+  const std::string expected = "a 4x4 matrix: 4 lines of 4 numbers separated by spaces or commas";
   Eigen::Matrix4d M;
   int row = 0;
   std::string line;
@@ -176,16 +178,16 @@ Eigen::Matrix4d ReadMatrixCsv(const fs::path& path) {
       for (std::string token; ss >> token;) tokens.push_back(token);
     }
     if (row == 4 || tokens.size() != 4)
-      throw InputError(file, "", "expected " + expected + "; line " + std::to_string(number) +
-                                     (row == 4 ? " is a fifth row"
-                                               : " has " + std::to_string(tokens.size()) +
-                                                     " values"));
+      throw InputError(
+          file, "",
+          "expected " + expected + "; line " + std::to_string(number) +
+              (row == 4 ? " is a fifth row" : " has " + std::to_string(tokens.size()) + " values"));
     for (int col = 0; col < 4; ++col) {
       const auto x = ParseNumber(tokens[col]);
       if (!x || !std::isfinite(*x))
-        throw InputError(file, "", "line " + std::to_string(number) + ", value " +
-                                       std::to_string(col + 1) + ": expected a finite number, got '" +
-                                       tokens[col] + "'");
+        throw InputError(file, "",
+                         "line " + std::to_string(number) + ", value " + std::to_string(col + 1) +
+                             ": expected a finite number, got '" + tokens[col] + "'");
       M(row, col) = *x;
     }
     ++row;
@@ -243,7 +245,8 @@ std::vector<fs::path> ListImages(const fs::path& folder) {
     if (images[i].stem() == images[i - 1].stem())
       throw InputError(images[i].string(), "",
                        "two images share the name stem '" + images[i].stem().string() + "' (also " +
-                           images[i - 1].filename().string() + "); one pose file cannot serve both");
+                           images[i - 1].filename().string() +
+                           "); one pose file cannot serve both");
   return images;
 }
 
@@ -262,6 +265,10 @@ MetricImport ImportMetricFolder(const std::string& folder) {
   const FlatYaml info(root / "CalibrationInfo.yaml");
   const int num_cameras = info.Int("number_of_cameras", 1, 1000);
   const std::string prefix = info.String("camera_folder_prefix");
+  if (prefix.find_first_of("/\\") != std::string::npos)
+    throw InputError(
+        info.path(), "/camera_folder_prefix",
+        "expected a folder name prefix such as 'camera', without '/', got '" + prefix + "'");
   const std::string pattern = info.String("pattern_type");
   if (pattern != "checkerboard")
     throw InputError(info.path(), "/pattern_type",
@@ -288,9 +295,9 @@ MetricImport ImportMetricFolder(const std::string& folder) {
   try {
     dataset.target = MakeTarget(spec);
   } catch (const InputError& e) {
-    throw InputError(info.path(), "",
-                     std::string("checkerboard from number_of_rows, number_of_columns, size: ") +
-                         e.what());
+    throw InputError(
+        info.path(), "",
+        std::string("checkerboard from number_of_rows, number_of_columns, size: ") + e.what());
   }
 
   std::map<std::string, RobotPose> poses;  // by id = file name stem, sorted
@@ -299,9 +306,10 @@ MetricImport ImportMetricFolder(const std::string& folder) {
     const std::string name = prefix + std::to_string(k);
     const fs::path camera_dir = root / name;
     if (!fs::is_directory(camera_dir, ec))
-      throw InputError(camera_dir.string(), "",
-                       "camera folder does not exist (CalibrationInfo.yaml has number_of_cameras: " +
-                           std::to_string(num_cameras) + ")");
+      throw InputError(
+          camera_dir.string(), "",
+          "camera folder does not exist (CalibrationInfo.yaml has number_of_cameras: " +
+              std::to_string(num_cameras) + ")");
     dataset.cameras.push_back(ReadIntrinsics(camera_dir / "intrinsic_pars_file.yaml", name));
     for (const fs::path& image : ListImages(camera_dir / "image")) {
       const std::string id = image.stem().string();
@@ -309,7 +317,8 @@ MetricImport ImportMetricFolder(const std::string& folder) {
       if (!fs::is_regular_file(pose_file, ec))
         throw InputError(pose_file.string(), "",
                          "pose file does not exist; expected one per image with the same name "
-                         "stem (for " + image.string() + ")");
+                         "stem (for " +
+                             image.string() + ")");
       const Eigen::Isometry3d T_base_ee = ReadRigidCsv(pose_file);
       auto [it, is_new] = poses.try_emplace(id);
       RobotPose& pose = it->second;
@@ -342,8 +351,9 @@ MetricImport ImportMetricFolder(const std::string& folder) {
     for (int k = 1; k <= num_cameras; ++k) {
       const fs::path file = gt_dir / ("gt_cam" + std::to_string(k) + ".csv");
       if (!fs::is_regular_file(file, ec))
-        throw InputError(file.string(), "",
-                         "ground-truth file does not exist; GT/ needs one gt_cam<k>.csv per camera");
+        throw InputError(
+            file.string(), "",
+            "ground-truth file does not exist; GT/ needs one gt_cam<k>.csv per camera");
       truth.T_cam[dataset.cameras[k - 1].name] = ReadRigidCsv(file);
     }
     out.truth = std::move(truth);

@@ -6,9 +6,9 @@
 
 #include <algorithm>
 #include <catch2/catch.hpp>
-#include <nlohmann/json.hpp>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "handeye/core/error.h"
@@ -122,8 +122,8 @@ Dataset MakeDataset(const std::string& image_dir) {
   spec.values["square_size_m"] = 0.0301;
   d.target = MakeTarget(spec);
   std::string why;
-  d.cameras.push_back(*Camera::Make("left", 1280, 1024, 1100.123456789, 1101.987654321,
-                                    639.4999999, 511.25, {}, &why));
+  d.cameras.push_back(*Camera::Make("left", 1280, 1024, 1100.123456789, 1101.987654321, 639.4999999,
+                                    511.25, {}, &why));
   d.cameras.push_back(*Camera::Make("right", 1280, 1024, 900.5, 900.25, 640.0, 512.0,
                                     {-0.31, 0.12, 1e-4, -2e-4, -0.02, 0.001, 0.002, 0.003}, &why));
   for (int i = 0; i < 4; ++i) {
@@ -191,6 +191,14 @@ TEST_CASE("Dataset round trip: exact numbers, image paths relative in the file",
   // Byte-identical once the paths are relative to the same folder.
   SaveDataset(again, dir + "/again.json");
   CHECK(ReadText(dir + "/again.json") == text);
+}
+
+TEST_CASE("SaveDataset never writes a file that LoadDataset would reject", "[io][dataset]") {
+  const std::string dir = test::TempDir("dataset_save_invalid");
+  Dataset d = MakeDataset(dir);
+  d.poses[1].images["middle"] = dir + "/middle.png";
+  CHECK_THROWS_AS(SaveDataset(d, dir + "/dataset.json"), std::invalid_argument);
+  CHECK_FALSE(std::filesystem::exists(dir + "/dataset.json"));
 }
 
 TEST_CASE("Observations round trip, exactly and in order", "[io][dataset]") {
@@ -299,7 +307,8 @@ TEST_CASE("Bad input: missing keys", "[io][dataset][bad]") {
 
   j = ValidDatasetJson();
   j["poses"][0].erase("images");
-  RequireLoadError(j, "/poses/0/images", "missing key; expected an object {camera name: image path}");
+  RequireLoadError(j, "/poses/0/images",
+                   "missing key; expected an object {camera name: image path}");
 }
 
 TEST_CASE("Bad input: unknown keys where a typo is likely", "[io][dataset][bad]") {
@@ -309,7 +318,8 @@ TEST_CASE("Bad input: unknown keys where a typo is likely", "[io][dataset][bad]"
 
   j = ValidDatasetJson();
   j["cameras"][1]["intrinsic"] = j["cameras"][1]["intrinsics"];
-  RequireLoadError(j, "/cameras/1/intrinsic", "unknown key 'intrinsic' (did you mean 'intrinsics'?)");
+  RequireLoadError(j, "/cameras/1/intrinsic",
+                   "unknown key 'intrinsic' (did you mean 'intrinsics'?)");
 
   j = ValidDatasetJson();
   j["cameras"][0]["intrinsics"]["f"] = 3;
@@ -343,7 +353,8 @@ TEST_CASE("Bad input: duplicate key in one object", "[io][dataset][bad]") {
   }
 }
 
-TEST_CASE("Bad input: non-rigid T_base_ee, accepted when reorthonormalising", "[io][dataset][bad]") {
+TEST_CASE("Bad input: non-rigid T_base_ee, accepted when reorthonormalising",
+          "[io][dataset][bad]") {
   json j = ValidDatasetJson();
   j["poses"][2]["T_base_ee"][0][1] = 1e-4;  // rotation now off orthonormal by 1e-4
   RequireLoadError(j, "/poses/2/T_base_ee", "off orthonormal");
@@ -385,7 +396,8 @@ TEST_CASE("Bad input: NaN and infinity", "[io][dataset][bad]") {
     FAIL("no error");
   } catch (const InputError& e) {
     CHECK(e.file() == file);
-    CHECK_THAT(e.what(), Contains("the number 1e999 does not fit a double; expected a finite number"));
+    CHECK_THAT(e.what(),
+               Contains("the number 1e999 does not fit a double; expected a finite number"));
     CHECK_THAT(e.what(), Contains("at line "));
   }
 }
@@ -399,7 +411,8 @@ TEST_CASE("Bad input: wrong distortion coefficient count or model", "[io][datase
 
   j = ValidDatasetJson();
   j["cameras"][0]["distortion"]["coeffs"] = {0.1, 0.2, 0.3, 0.4};
-  RequireLoadError(j, "/cameras/0/distortion/coeffs", "expected no coefficients for model \"none\"");
+  RequireLoadError(j, "/cameras/0/distortion/coeffs",
+                   "expected no coefficients for model \"none\"");
 
   j = ValidDatasetJson();
   j["cameras"][0]["distortion"]["model"] = "fisheye";
@@ -443,7 +456,8 @@ TEST_CASE("Bad input: observation of an unknown pose or camera", "[io][dataset][
 
   j = ValidObservationsJson();
   j["observations"][2]["camera"] = "cam2";
-  RequireLoadError(j, "/observations/2/camera", "unknown camera 'cam2'; the cameras are: cam0, cam1");
+  RequireLoadError(j, "/observations/2/camera",
+                   "unknown camera 'cam2'; the cameras are: cam0, cam1");
 }
 
 TEST_CASE("Bad input: duplicate id in one observation", "[io][dataset][bad]") {
@@ -455,8 +469,9 @@ TEST_CASE("Bad input: duplicate id in one observation", "[io][dataset][bad]") {
 TEST_CASE("Bad input: id that is not a point of the target", "[io][dataset][bad]") {
   json j = ValidObservationsJson();
   j["observations"][1]["ids"][0] = 12;  // a 4x3 board has ids 0..11
-  RequireLoadError(j, "/observations/1/ids/0",
-                   "id 12 is not a point of the 'checkerboard' target (its 12 points have ids 0..11)");
+  RequireLoadError(
+      j, "/observations/1/ids/0",
+      "id 12 is not a point of the 'checkerboard' target (its 12 points have ids 0..11)");
 
   j = ValidObservationsJson();
   j["observations"][1]["ids"][1] = -1;
@@ -466,12 +481,12 @@ TEST_CASE("Bad input: id that is not a point of the target", "[io][dataset][bad]
 TEST_CASE("Bad input: ids and points_px of different lengths", "[io][dataset][bad]") {
   json j = ValidObservationsJson();
   j["observations"][0]["points_px"].erase(2);
-  RequireLoadError(j, "/observations/0/points_px",
-                   "expected 3 pixels [u, v], one per id, got 2");
+  RequireLoadError(j, "/observations/0/points_px", "expected 3 pixels [u, v], one per id, got 2");
 
   j = ValidObservationsJson();
   j["observations"][0]["points_px"][1] = {3, 4, 5};
-  RequireLoadError(j, "/observations/0/points_px/1", "expected a pixel [u, v] of two finite numbers");
+  RequireLoadError(j, "/observations/0/points_px/1",
+                   "expected a pixel [u, v] of two finite numbers");
 
   j = ValidObservationsJson();
   j["observations"][0]["ids"] = json::array();
@@ -482,8 +497,9 @@ TEST_CASE("Bad input: ids and points_px of different lengths", "[io][dataset][ba
 TEST_CASE("Bad input: the same (pose, camera) observed twice", "[io][dataset][bad]") {
   json j = ValidObservationsJson();
   j["observations"].push_back(j["observations"][1]);
-  RequireLoadError(j, "/observations/3",
-                   "duplicate observation of pose '0001' by camera 'cam1' (also at /observations/1)");
+  RequireLoadError(
+      j, "/observations/3",
+      "duplicate observation of pose '0001' by camera 'cam1' (also at /observations/1)");
 }
 
 TEST_CASE("Bad input: unsupported format", "[io][dataset][bad]") {
@@ -512,7 +528,8 @@ TEST_CASE("Bad input: unknown target type lists the known ones", "[io][dataset][
   j["target"]["type"] = "chessboard";
   std::string known;
   for (const auto& type : KnownTargetTypes()) known += (known.empty() ? "" : ", ") + type;
-  RequireLoadError(j, "/target/type", "unknown target type 'chessboard'; expected one of: " + known);
+  RequireLoadError(j, "/target/type",
+                   "unknown target type 'chessboard'; expected one of: " + known);
 }
 
 TEST_CASE("Bad input: a broken ground_truth object inside a dataset", "[io][dataset][bad]") {

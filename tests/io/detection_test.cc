@@ -41,7 +41,9 @@ Dataset MakeDataset(const std::string& dir, int num_poses) {
 }
 
 // Board origin of (pose, camera) in pixels, different for every view.
-cv::Point Origin(int pose, int camera) { return cv::Point(40 + 7 * pose + 3 * camera, 50 + 5 * pose); }
+cv::Point Origin(int pose, int camera) {
+  return cv::Point(40 + 7 * pose + 3 * camera, 50 + 5 * pose);
+}
 
 void WriteBoardImages(const Dataset& d, bool blank_pose1_camB) {
   for (std::size_t p = 0; p < d.poses.size(); ++p)

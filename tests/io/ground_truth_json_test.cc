@@ -2,8 +2,8 @@
 // Ground-truth files (`handeye-ground-truth/1`, or a dataset's ground_truth
 // object): round trips and bad input.
 #include <catch2/catch.hpp>
-#include <nlohmann/json.hpp>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "handeye/core/error.h"
@@ -204,7 +204,8 @@ TEST_CASE("Ground truth: bad input is named precisely", "[io][truth][bad]") {
 
   j = ValidTruthJson();
   j.erase("T_base_cam");
-  RequireTruthError(j, "/T_base_cam", "missing key; expected an object {camera name: 4x4 transform}");
+  RequireTruthError(j, "/T_base_cam",
+                    "missing key; expected an object {camera name: 4x4 transform}");
 
   j = ValidTruthJson();
   j["T_base_cam"] = json::object();

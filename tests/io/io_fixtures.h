@@ -9,8 +9,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <stdexcept>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "handeye/core/transform.h"
@@ -76,7 +76,8 @@ inline void WriteMetricFolder(const std::string& dir, int calibration_setup, boo
             "size: 0.05   # metres\n"
             "resize_factor: 1\n"
             "visual_error: 1\n"
-            "calibration_setup: " + std::to_string(calibration_setup) + "\n");
+            "calibration_setup: " +
+                std::to_string(calibration_setup) + "\n");
   WriteText(dir + "/camera1/intrinsic_pars_file.yaml",
             "fx: 1360.5206198852188\nfy: 1362.5943706855635\ncx: 31.5\ncy: 23.25\n"
             "has_dist_coeff: 1\n"
@@ -113,8 +114,7 @@ inline void WriteMetricFolder(const std::string& dir, int calibration_setup, boo
 /// printed face towards the camera, SPEC §4): target +x is image right, +y
 /// image down, and the square on the -x, -y side of corner (0, 0) is black.
 /// Corner (i, j) is at pixel CornerPixel(...) (pixel centres at integers).
-inline cv::Mat DrawBoard(int cols, int rows, int square_px, int x0, int y0, int width,
-                         int height) {
+inline cv::Mat DrawBoard(int cols, int rows, int square_px, int x0, int y0, int width, int height) {
   cv::Mat image(height, width, CV_8UC1, cv::Scalar(225));
   for (int b = -1; b <= rows - 1; ++b)
     for (int a = -1; a <= cols - 1; ++a)

@@ -108,8 +108,7 @@ TEST_CASE("TargetSpec converts both ways; other value types are rejected", "[io]
         R"({"type":"charuco","dictionary":"DICT_5X5_100","square_size_m":0.04,"squares":[5,7]})");
 
   const json bad = json::parse(R"({"type": "checkerboard", "inner_corners": {"cols": 4}})");
-  const InputError e =
-      ErrorOf([&] { TargetSpecFromJson(JsonReader(&bad, "f.json", "/target")); });
+  const InputError e = ErrorOf([&] { TargetSpecFromJson(JsonReader(&bad, "f.json", "/target")); });
   CHECK(e.json_path() == "/target/inner_corners");
   CHECK_THAT(e.what(), Contains("expected a number, a string or an array of numbers"));
 
@@ -130,7 +129,8 @@ TEST_CASE("DumpJson is readable and round-trips every double exactly", "[io][jso
   j["ids"] = {1, 2, 3};
   j["empty"] = nlohmann::ordered_json::array();
   const std::string text = DumpJson(j);
-  CHECK(text.rfind("{\n  \"z\": \"first key stays first\",\n  \"a\": 0.1,\n  \"T\": [\n    [", 0) == 0);
+  CHECK(text.rfind("{\n  \"z\": \"first key stays first\",\n  \"a\": 0.1,\n  \"T\": [\n    [", 0) ==
+        0);
   CHECK_THAT(text, Contains("\"ids\": [1, 2, 3]"));
   CHECK_THAT(text, Contains("\"empty\": []"));
   CHECK(text.back() == '\n');
@@ -156,7 +156,8 @@ TEST_CASE("ReadJsonFile reports missing files, syntax errors, overflow and dupli
   test::WriteText(dir + "/huge.json", "{\n  \"a\": [1,\n     -1e999]\n}\n");
   e = ErrorOf([&] { ReadJsonFile(dir + "/huge.json"); });
   CHECK_THAT(e.what(), Contains("at line 3, column 6"));
-  CHECK_THAT(e.what(), Contains("the number -1e999 does not fit a double; expected a finite number"));
+  CHECK_THAT(e.what(),
+             Contains("the number -1e999 does not fit a double; expected a finite number"));
 
   test::WriteText(dir + "/dup.json",
                   R"({"poses": [{"id": "1"}, {"id": "2", "T_base_ee": 1, "id": "3"}]})");

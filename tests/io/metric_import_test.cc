@@ -52,7 +52,8 @@ TEST_CASE("METRIC folder: cameras, target, poses and ground truth", "[io][metric
   CHECK(d.cameras[0].height == 48);
   CHECK(d.cameras[0].fx() == 1360.5206198852188);
   CHECK(d.cameras[0].cy() == 23.25);
-  // dist_k0 dist_k1 dist_px dist_py dist_k2 dist_k3 dist_k4 dist_k5 = OpenCV k1 k2 p1 p2 k3 k4 k5 k6.
+  // dist_k0 dist_k1 dist_px dist_py dist_k2 dist_k3 dist_k4 dist_k5 = OpenCV k1 k2 p1 p2 k3 k4 k5
+  // k6.
   CHECK(d.cameras[0].Distortion() ==
         std::vector<double>{-0.01, 0.2, 0.003, -0.0002, -1.3, 0.01, 0.02, 0.03});
   CHECK(d.cameras[1].name == "camera2");
@@ -146,17 +147,19 @@ TEST_CASE("METRIC folder: bad input names the file and what was expected", "[io]
   }
   SECTION("a missing key in CalibrationInfo.yaml") {
     test::WriteMetricFolder(dir, 1, false);
-    test::WriteText(dir + "/CalibrationInfo.yaml",
-                    "number_of_cameras: 2\ncamera_folder_prefix: camera\npattern_type: checkerboard\n"
-                    "number_of_rows: 4\nsize: 0.05\ncalibration_setup: 1\n");
+    test::WriteText(
+        dir + "/CalibrationInfo.yaml",
+        "number_of_cameras: 2\ncamera_folder_prefix: camera\npattern_type: checkerboard\n"
+        "number_of_rows: 4\nsize: 0.05\ncalibration_setup: 1\n");
     RequireImportError(dir, "CalibrationInfo.yaml", "missing key; expected an integer",
                        "/number_of_columns");
   }
   SECTION("a bad value in CalibrationInfo.yaml") {
     test::WriteMetricFolder(dir, 1, false);
-    test::WriteText(dir + "/CalibrationInfo.yaml",
-                    "number_of_cameras: 2\ncamera_folder_prefix: camera\npattern_type: checkerboard\n"
-                    "number_of_rows: 4\nnumber_of_columns: 3.5\nsize: 0.05\ncalibration_setup: 1\n");
+    test::WriteText(
+        dir + "/CalibrationInfo.yaml",
+        "number_of_cameras: 2\ncamera_folder_prefix: camera\npattern_type: checkerboard\n"
+        "number_of_rows: 4\nnumber_of_columns: 3.5\nsize: 0.05\ncalibration_setup: 1\n");
     RequireImportError(dir, "CalibrationInfo.yaml", "got '3.5' (line 5)", "/number_of_columns");
   }
   SECTION("an unsupported pattern") {
@@ -166,6 +169,14 @@ TEST_CASE("METRIC folder: bad input names the file and what was expected", "[io]
                     "number_of_rows: 4\nnumber_of_columns: 3\nsize: 0.05\ncalibration_setup: 1\n");
     RequireImportError(dir, "CalibrationInfo.yaml", "unsupported pattern_type 'charuco'",
                        "/pattern_type");
+  }
+  SECTION("a camera folder prefix that is a path") {
+    test::WriteMetricFolder(dir, 1, false);
+    test::WriteText(dir + "/CalibrationInfo.yaml",
+                    "number_of_cameras: 2\ncamera_folder_prefix: cams/camera\n"
+                    "pattern_type: checkerboard\nnumber_of_rows: 4\nnumber_of_columns: 3\n"
+                    "size: 0.05\ncalibration_setup: 1\n");
+    RequireImportError(dir, "CalibrationInfo.yaml", "without '/'", "/camera_folder_prefix");
   }
   SECTION("a line that is not key: value") {
     test::WriteMetricFolder(dir, 1, false);

@@ -43,8 +43,8 @@ TEST_CASE("handeye detect writes observations and a per-camera summary", "[tools
   const std::string dir = test::TempDir("cli_detect");
   const std::string dataset = WriteSmallDataset(dir);
   std::string out;
-  REQUIRE(test::RunHandeye("detect '" + dataset + "' -o '" + dir + "/obs.json' --threads 2", &out) ==
-          0);
+  REQUIRE(test::RunHandeye("detect '" + dataset + "' -o '" + dir + "/obs.json' --threads 2",
+                           &out) == 0);
   CHECK_THAT(out, Contains("camA: 3 images, target found in 2"));
   const Dataset obs = LoadDataset(dir + "/obs.json");
   REQUIRE(obs.observations.size() == 2);

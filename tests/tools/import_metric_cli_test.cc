@@ -35,21 +35,24 @@ TEST_CASE("handeye import-metric writes a dataset and its ground truth", "[tools
   CHECK(truth.setup == Setup::kEyeToHand);
   CHECK_FALSE(truth.has_T_target);
   REQUIRE(truth.T_cam.count("camera2"));
-  CHECK((truth.T_cam.at("camera2").matrix() - test::MetricCamera(2).matrix()).cwiseAbs().maxCoeff() <
-        1e-15);
+  CHECK(
+      (truth.T_cam.at("camera2").matrix() - test::MetricCamera(2).matrix()).cwiseAbs().maxCoeff() <
+      1e-15);
 }
 
 TEST_CASE("handeye import-metric without GT writes no ground truth", "[tools][metric]") {
   const std::string dir = test::TempDir("cli_import_metric_nogt");
   test::WriteMetricFolder(dir + "/in", 0, false);
   std::string out;
-  REQUIRE(test::RunHandeye("import-metric '" + dir + "/in' -o '" + dir + "/dataset.json'", &out) == 0);
+  REQUIRE(test::RunHandeye("import-metric '" + dir + "/in' -o '" + dir + "/dataset.json'", &out) ==
+          0);
   CHECK_THAT(out, Contains("setup eye_in_hand"));
   CHECK(fs::is_regular_file(dir + "/dataset.json"));
   CHECK_FALSE(fs::exists(dir + "/ground_truth.json"));
 }
 
-TEST_CASE("handeye import-metric: bad input exits with 2 and names the file", "[tools][metric][bad]") {
+TEST_CASE("handeye import-metric: bad input exits with 2 and names the file",
+          "[tools][metric][bad]") {
   const std::string dir = test::TempDir("cli_import_metric_bad");
   std::string out;
   CHECK(test::RunHandeye("import-metric '" + dir + "/nope' -o '" + dir + "/d.json'", &out) == 2);
@@ -58,7 +61,8 @@ TEST_CASE("handeye import-metric: bad input exits with 2 and names the file", "[
   test::WriteMetricFolder(dir + "/in", 1, true);
   fs::remove(dir + "/in/camera1/pose/0002.csv");
   CHECK(test::RunHandeye("import-metric '" + dir + "/in' -o '" + dir + "/d.json'", &out) == 2);
-  CHECK_THAT(out, Contains("error: " + dir + "/in/camera1/pose/0002.csv: pose file does not exist"));
+  CHECK_THAT(out,
+             Contains("error: " + dir + "/in/camera1/pose/0002.csv: pose file does not exist"));
   CHECK_FALSE(fs::exists(dir + "/d.json"));
 
   test::WriteText(dir + "/in/camera1/pose/0002.csv", "1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 x\n");
