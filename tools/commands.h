@@ -15,6 +15,8 @@ namespace handeye::tools {
 void RegisterDetect(CLI::App& app);
 void RegisterSimulate(CLI::App& app);
 void RegisterImportMetric(CLI::App& app);
+void RegisterCalibrate(CLI::App& app);
+void RegisterEvaluate(CLI::App& app);
 
 /// A progress printer for stderr: redraws one line when stderr is a terminal,
 /// prints nothing otherwise.

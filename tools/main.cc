@@ -30,6 +30,8 @@ int main(int argc, char** argv) {
   CLI::App app{"handeye: calibrates a network of cameras against an industrial robot"};
   app.require_subcommand(1);
   handeye::tools::RegisterDetect(app);
+  handeye::tools::RegisterCalibrate(app);
+  handeye::tools::RegisterEvaluate(app);
   handeye::tools::RegisterSimulate(app);
   handeye::tools::RegisterImportMetric(app);
   try {

@@ -194,7 +194,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   Estimate est;
   if (options.method == Method::kJoint) {
     const internal::Initialisation init = internal::InitialiseJoint(problem);
-    result.warnings.insert(result.warnings.end(), init.notes.begin(), init.notes.end());
+    result.notes.insert(result.notes.end(), init.notes.begin(), init.notes.end());
     const internal::Refinement refined = internal::RefineJoint(problem, init, options);
     est.X = refined.X;
     est.shared_Z = refined.Z[0];

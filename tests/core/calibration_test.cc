@@ -144,7 +144,7 @@ TEST_CASE("Degenerate motion is reported as a SolveError that says what to add",
   }
 }
 
-TEST_CASE("A camera that never sees the target is reported; one seen once is calibrated", "[calibration]") {
+TEST_CASE("A camera that never sees the target is reported, one seen once is calibrated", "[calibration]") {
   SyntheticScene scene = Scene(4, 15, Setup::kEyeToHand, 8, 0.0);
   auto& obs = scene.dataset.observations;
   const std::string blind = scene.dataset.cameras[3].name;

@@ -81,7 +81,7 @@ TEST_CASE("SceneOptions::Check accepts the defaults and names what is wrong", "[
   CHECK_THAT(why, Catch::Contains("border margin"));
 }
 
-TEST_CASE("A seed gives the same scene; another seed a different one", "[synthetic]") {
+TEST_CASE("A seed gives the same scene, another seed a different one", "[synthetic]") {
   for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
     const SyntheticScene a = MakeScene(Options("medium", setup, 7), DefaultBoard());
     const SyntheticScene b = MakeScene(Options("medium", setup, 7), DefaultBoard());
@@ -128,7 +128,7 @@ TEST_CASE("Every camera has views and neighbours share some, in every cell", "[s
       }
 }
 
-TEST_CASE("True pixels are the projections of the true poses; views are whole boards", "[synthetic]") {
+TEST_CASE("True pixels are the projections of the true poses, views are whole boards", "[synthetic]") {
   for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
     const SyntheticScene scene = MakeScene(Options("small", setup, 3), DefaultBoard());
     const Target& target = *scene.dataset.target;

@@ -95,7 +95,7 @@ TEST_CASE("Rigid accepts a rotation, rejects a non-rigid one unless reorthonorma
   CHECK(RotationDistance(fixed.linear(), T.linear()) < 1e-4);
 }
 
-TEST_CASE("TargetSpec converts both ways; other value types are rejected", "[io][json]") {
+TEST_CASE("TargetSpec converts both ways, other value types are rejected", "[io][json]") {
   const json doc = json::parse(
       R"({"type": "charuco", "squares": [5, 7], "square_size_m": 0.04, "dictionary": "DICT_5X5_100"})");
   const TargetSpec spec = TargetSpecFromJson(JsonReader(&doc, "f.json", "/target"));

@@ -101,7 +101,10 @@ struct CalibrationResult {
   CalibrationMetrics metrics;
   SolverSummary solver;
   std::vector<ViewResult> views;
+  /// Things a user must see (rejected views, uncalibrated cameras, …).
   std::vector<std::string> warnings;
+  /// How the solve went (initialisation chosen, …): information, not a problem.
+  std::vector<std::string> notes;
 };
 
 /// Calibrates from the dataset's observations (detect first for images).

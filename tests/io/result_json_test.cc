@@ -1,0 +1,109 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include <catch2/catch.hpp>
+
+#include "handeye/core/error.h"
+#include "handeye/core/transform.h"
+#include "handeye/io/result_json.h"
+#include "io_fixtures.h"
+#include "support/test_support.h"
+
+using namespace handeye;
+
+namespace {
+
+CalibrationResult SampleResult(Setup setup) {
+  CalibrationResult r;
+  r.setup = setup;
+  r.method = Method::kJoint;
+  CameraResult a;
+  a.name = "cam0";
+  a.calibrated = true;
+  a.T_cam = MakeTransformFromRotationVector({0.3, -2.2, 0.1}, {1.9, -1.8, 1.9});
+  a.rms_px = 0.19;
+  a.views = 9;
+  a.views_rejected = 1;
+  CameraResult b;
+  b.name = "cam1";
+  b.calibrated = false;
+  r.cameras = {a, b};
+  r.T_target = MakeTransformFromRotationVector({0.1, 0.2, 0.3}, {0.01, 0.02, 0.1});
+  CameraPairResult p;
+  p.camera_k = "cam0";
+  p.camera_t = "cam1";
+  p.T_camk_camt = MakeTransformFromRotationVector({0.0, 1.5, 0.0}, {2.0, 0.0, 0.5});
+  p.shared_views = 4;
+  r.camera_pairs = {p};
+  r.metrics = {0.18, 4.9, 0.21};
+  r.solver = {0.12, 6, true, "CONVERGENCE"};
+  ViewResult v;
+  v.pose_id = "0001";
+  v.camera = "cam0";
+  v.num_points = 28;
+  v.rms_px = 0.2;
+  v.max_px = 0.5;
+  ViewResult rejected = v;
+  rejected.used = false;
+  rejected.rejected_because = "fewer than 4 points";
+  r.views = {v, rejected};
+  r.warnings = {"camera 'cam1' never saw the target: not calibrated"};
+  r.notes = {"initialised from ViSP on camera 'cam0'"};
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("Result files round trip exactly, both setups", "[result]") {
+  const std::string dir = test::TempDir("result_round_trip");
+  for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
+    const CalibrationResult r = SampleResult(setup);
+    const std::string path = dir + "/result.json";
+    SaveResult(r, path);
+    const std::string text = test::ReadText(path);
+    CHECK(text.find(setup == Setup::kEyeToHand ? "\"T_base_cam\"" : "\"T_ee_cam\"") != std::string::npos);
+    CHECK(text.find(setup == Setup::kEyeToHand ? "\"T_ee_target\"" : "\"T_base_target\"") != std::string::npos);
+    CHECK(text.find("\"T_cam0_cam1\"") != std::string::npos);
+    CHECK(text.find("NaN") == std::string::npos);
+    const CalibrationResult back = LoadResult(path);
+    REQUIRE(back.cameras.size() == 2);
+    CHECK(back.cameras[0].T_cam.matrix() == r.cameras[0].T_cam.matrix());
+    CHECK_FALSE(back.cameras[1].calibrated);
+    CHECK(back.T_target.matrix() == r.T_target.matrix());
+    REQUIRE(back.camera_pairs.size() == 1);
+    CHECK(back.camera_pairs[0].T_camk_camt.matrix() == r.camera_pairs[0].T_camk_camt.matrix());
+    CHECK(back.camera_pairs[0].shared_views == 4);
+    CHECK(back.metrics.axzb_translation_mm == 4.9);
+    CHECK(back.solver.iterations == 6);
+    REQUIRE(back.views.size() == 2);
+    CHECK(back.views[1].rejected_because == "fewer than 4 points");
+    CHECK(back.warnings == r.warnings);
+    CHECK(back.notes == r.notes);
+  }
+}
+
+TEST_CASE("Broken result files are rejected with file and path", "[result]") {
+  const std::string dir = test::TempDir("result_bad");
+  const std::string path = dir + "/result.json";
+  SaveResult(SampleResult(Setup::kEyeToHand), path);
+  const std::string good = test::ReadText(path);
+  auto expect_error = [&](const std::string& text, const std::string& needle) {
+    test::WriteText(path, text);
+    try {
+      LoadResult(path);
+      FAIL("expected an InputError for " << needle);
+    } catch (const InputError& e) {
+      INFO(e.what());
+      CHECK(std::string(e.what()).find(path) != std::string::npos);
+      CHECK(std::string(e.what()).find(needle) != std::string::npos);
+    }
+  };
+  auto replace = [&](std::string from, std::string to) {
+    std::string text = good;
+    text.replace(text.find(from), from.size(), to);
+    return text;
+  };
+  expect_error(replace("handeye-result/1", "handeye-result/9"), "/format");
+  expect_error(replace("\"joint\"", "\"magic\""), "/method");
+  expect_error(replace("\"calibrated\": true", "\"calibrated\": 1"), "/cameras/cam0/calibrated");
+  expect_error(replace("\"T_ee_target\": [", "\"T_ee_target_x\": ["), "/T_ee_target");
+  CHECK_THROWS_AS(LoadResult(dir + "/missing.json"), InputError);
+}

@@ -1,0 +1,115 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// `handeye calibrate DATASET|OBS -o RESULT.json [--method M]`: detects if the
+// input has only images, initialises, solves and writes handeye-result/1.
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "commands.h"
+#include "handeye/core/calibration.h"
+#include "handeye/core/error.h"
+#include "handeye/io/dataset_json.h"
+#include "handeye/io/detection.h"
+#include "handeye/io/result_json.h"
+
+namespace handeye::tools {
+namespace {
+
+struct CalibrateArgs {
+  std::string input;
+  std::string output;
+  std::string method = "joint";
+  double cauchy_scale_px = 1.0;
+  bool no_cross_terms = false;
+  int threads = 0;
+  bool reorthonormalise = false;
+};
+
+void PrintSummary(const CalibrationResult& result) {
+  const bool eye_to_hand = result.setup == Setup::kEyeToHand;
+  std::printf("method %s, %s\n", MethodName(result.method), SetupName(result.setup));
+  std::printf("%-12s %10s %10s %10s %8s %6s\n", "camera", eye_to_hand ? "x_base mm" : "x_ee mm",
+              eye_to_hand ? "y_base mm" : "y_ee mm", eye_to_hand ? "z_base mm" : "z_ee mm", "rms px", "views");
+  for (const CameraResult& cam : result.cameras) {
+    if (!cam.calibrated) {
+      std::printf("%-12s %10s %10s %10s %8s %6d\n", cam.name.c_str(), "-", "-", "-", "-", cam.views);
+      continue;
+    }
+    const Eigen::Vector3d t = 1000.0 * cam.T_cam.translation();
+    std::printf("%-12s %10.2f %10.2f %10.2f %8.3f %6d\n", cam.name.c_str(), t.x(), t.y(), t.z(), cam.rms_px,
+                cam.views);
+  }
+  std::printf("rms %.3f px, AX=ZB %.3f mm / %.4f deg, %d iterations, %.3f s\n", result.metrics.rms_px,
+              result.metrics.axzb_translation_mm, result.metrics.axzb_rotation_deg, result.solver.iterations,
+              result.solver.seconds);
+}
+
+void RunCalibrate(const CalibrateArgs& args) {
+  CalibrationOptions options;
+  const auto method = ParseMethod(args.method);
+  if (!method) {
+    std::string names;
+    for (const auto& n : MethodNames()) names += (names.empty() ? "" : ", ") + n;
+    throw InputError("", "", "--method: expected one of " + names + "; got '" + args.method + "'");
+  }
+  options.method = *method;
+  options.cauchy_scale_px = args.cauchy_scale_px;
+  options.cross_terms = !args.no_cross_terms;
+  options.threads = args.threads > 0 ? args.threads : 1;
+  std::string why;
+  if (!options.Check(&why)) throw InputError("", "", "invalid option: " + why);
+  const std::filesystem::path out(args.output);
+  std::error_code ec;
+  if (!std::filesystem::is_directory(out.has_parent_path() ? out.parent_path() : ".", ec))
+    throw InputError(args.output, "", "cannot write: its folder does not exist");
+
+  LoadOptions load;
+  load.reorthonormalise = args.reorthonormalise;
+  std::vector<std::string> warnings;
+  Dataset dataset = LoadDataset(args.input, load, &warnings);
+  PrintWarnings(warnings);
+  if (dataset.observations.empty()) {
+    bool has_images = false;
+    for (const auto& pose : dataset.poses) has_images = has_images || !pose.images.empty();
+    if (!has_images)
+      throw InputError(args.input, "/observations", "observations, or poses with images to detect in");
+    DetectOptions detect;
+    detect.threads = args.threads;
+    detect.progress = ProgressLine("detecting");
+    DetectAll(&dataset, detect);
+  }
+  CalibrationResult result;
+  try {
+    result = Calibrate(dataset, options);
+  } catch (const InputError& e) {
+    throw e.file().empty() ? e.WithFile(args.input) : e;
+  }
+  PrintWarnings(result.warnings);
+  for (const auto& note : result.notes) std::cerr << "note: " << note << "\n";
+  SaveResult(result, args.output);
+  PrintSummary(result);
+  std::fprintf(stderr, "wrote %s\n", args.output.c_str());
+}
+
+}  // namespace
+
+void RegisterCalibrate(CLI::App& app) {
+  auto args = std::make_shared<CalibrateArgs>();
+  CLI::App* cmd = app.add_subcommand("calibrate", "calibrate every camera against the robot");
+  cmd->add_option("INPUT", args->input, "handeye-dataset/1 (detects first) or handeye-observations/1")
+      ->required();
+  cmd->add_option("-o,--output", args->output, "result file to write (handeye-result/1)")->required();
+  cmd->add_option("--method", args->method,
+                  "joint (default, the paper's method), per-camera, tsai, park, horaud, andreff, "
+                  "daniilidis, shah, li, visp");
+  cmd->add_option("--cauchy-scale", args->cauchy_scale_px, "Cauchy loss scale in pixels (default 1)");
+  cmd->add_flag("--no-cross-terms", args->no_cross_terms, "joint: leave out the camera-to-camera terms");
+  cmd->add_option("--threads", args->threads, "threads for detection and the solver (0 = all cores)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--reorthonormalise", args->reorthonormalise,
+                "replace slightly non-orthonormal robot rotations by the nearest rotation");
+  cmd->callback([args]() { RunCalibrate(*args); });
+}
+
+}  // namespace handeye::tools
