@@ -112,4 +112,6 @@ void RegisterCalibrate(CLI::App& app) {
   cmd->callback([args]() { RunCalibrate(*args); });
 }
 
+HANDEYE_SUBCOMMAND(20, RegisterCalibrate);
+
 }  // namespace handeye::tools

@@ -10,13 +10,19 @@
 
 namespace handeye::tools {
 
-/// Adds the subcommand to `app`. Its callback throws InputError / SolveError;
-/// main() maps them to exit codes 2 / 3.
-void RegisterDetect(CLI::App& app);
-void RegisterSimulate(CLI::App& app);
-void RegisterImportMetric(CLI::App& app);
-void RegisterCalibrate(CLI::App& app);
-void RegisterEvaluate(CLI::App& app);
+/// Adds one subcommand to the app. Its callback throws InputError /
+/// SolveError; main() maps them to exit codes 2 / 3.
+using AddSubcommandFn = void (*)(CLI::App& app);
+
+/// Records a subcommand; `order` places it in `handeye --help`. Each
+/// subcommand file registers itself with HANDEYE_SUBCOMMAND, so adding a
+/// subcommand is adding one file.
+bool RecordSubcommand(int order, AddSubcommandFn add);
+/// Adds every recorded subcommand to `app`, in order.
+void AddRecordedSubcommands(CLI::App& app);
+
+#define HANDEYE_SUBCOMMAND(order, fn) \
+  [[maybe_unused]] static const bool handeye_subcommand_##fn = ::handeye::tools::RecordSubcommand(order, fn)
 
 /// A progress printer for stderr: redraws one line when stderr is a terminal,
 /// prints nothing otherwise.

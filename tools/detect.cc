@@ -75,4 +75,6 @@ void RegisterDetect(CLI::App& app) {
   cmd->callback([args]() { RunDetect(*args); });
 }
 
+HANDEYE_SUBCOMMAND(10, RegisterDetect);
+
 }  // namespace handeye::tools

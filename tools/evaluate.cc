@@ -63,4 +63,6 @@ void RegisterEvaluate(CLI::App& app) {
   cmd->callback([args]() { RunEvaluate(*args); });
 }
 
+HANDEYE_SUBCOMMAND(40, RegisterEvaluate);
+
 }  // namespace handeye::tools

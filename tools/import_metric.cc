@@ -49,4 +49,6 @@ void RegisterImportMetric(CLI::App& app) {
   cmd->callback([args]() { RunImportMetric(*args); });
 }
 
+HANDEYE_SUBCOMMAND(60, RegisterImportMetric);
+
 }  // namespace handeye::tools

@@ -3,6 +3,7 @@
 // 0 success, 2 bad input, 3 the calibration could not be solved.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
@@ -20,6 +21,27 @@ std::function<void(std::size_t, std::size_t)> ProgressLine(const std::string& wh
   };
 }
 
+namespace {
+
+std::vector<std::pair<int, AddSubcommandFn>>& Recorded() {
+  static std::vector<std::pair<int, AddSubcommandFn>> recorded;
+  return recorded;
+}
+
+}  // namespace
+
+bool RecordSubcommand(int order, AddSubcommandFn add) {
+  Recorded().emplace_back(order, add);
+  return true;
+}
+
+void AddRecordedSubcommands(CLI::App& app) {
+  auto recorded = Recorded();
+  std::stable_sort(recorded.begin(), recorded.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [order, add] : recorded) add(app);
+}
+
 void PrintWarnings(const std::vector<std::string>& warnings) {
   for (const auto& w : warnings) std::cerr << "warning: " << w << "\n";
 }
@@ -29,11 +51,7 @@ void PrintWarnings(const std::vector<std::string>& warnings) {
 int main(int argc, char** argv) {
   CLI::App app{"handeye: calibrates a network of cameras against an industrial robot"};
   app.require_subcommand(1);
-  handeye::tools::RegisterDetect(app);
-  handeye::tools::RegisterCalibrate(app);
-  handeye::tools::RegisterEvaluate(app);
-  handeye::tools::RegisterSimulate(app);
-  handeye::tools::RegisterImportMetric(app);
+  handeye::tools::AddRecordedSubcommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

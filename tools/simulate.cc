@@ -184,4 +184,6 @@ void RegisterSimulate(CLI::App& app) {
   });
 }
 
+HANDEYE_SUBCOMMAND(50, RegisterSimulate);
+
 }  // namespace handeye::tools
