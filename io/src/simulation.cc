@@ -11,12 +11,15 @@
 #include <atomic>
 #include <exception>
 #include <filesystem>
+#include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
 #include "handeye/core/error.h"
 #include "handeye/io/dataset_json.h"
+#include "handeye/detectors/registry.h"
 #include "handeye/io/image.h"
 
 namespace handeye {
@@ -42,41 +45,30 @@ double CameraBlur(double mean_sigma_px, std::uint64_t seed, std::size_t camera) 
 struct View {
   std::size_t pose = 0;
   std::size_t camera = 0;
-  std::string path;
 };
 
-}  // namespace
-
-void WriteSimulation(SyntheticScene* scene, const RenderOptions& render, const std::string& outdir,
-                     int threads, const std::function<void(std::size_t, std::size_t)>& progress) {
-  std::string why;
-  if (!render.Check(&why)) throw std::invalid_argument("WriteSimulation: bad render options: " + why);
-  Dataset& dataset = scene->dataset;
-  if (!dataset.target) throw std::invalid_argument("WriteSimulation: scene without a target");
-  if (scene->truth.poses.size() != dataset.poses.size())
-    throw std::invalid_argument("WriteSimulation: scene truth does not match its poses");
-
-  // Absolute paths, so the dataset writer can make them relative to its file
-  // whatever the working directory.
-  const fs::path root = fs::absolute(fs::path(outdir)).lexically_normal();
+/// Every view the truth says is visible, in pose then camera order.
+std::vector<View> VisibleViews(const SyntheticScene& scene) {
   std::vector<View> views;
-  for (std::size_t j = 0; j < scene->truth.poses.size(); ++j) {
-    dataset.poses[j].images.clear();
-    for (std::size_t k = 0; k < dataset.cameras.size(); ++k) {
-      const std::string& name = dataset.cameras[k].name;
-      if (!scene->truth.poses[j].points_px.count(name)) continue;
-      const fs::path path = root / "images" / name / (dataset.poses[j].id + ".png");
-      views.push_back({j, k, path.string()});
-      dataset.poses[j].images[name] = path.string();
-    }
-  }
-  for (const Camera& camera : dataset.cameras) {
-    std::error_code ec;
-    fs::create_directories(root / "images" / camera.name, ec);
-    if (ec) throw InputError((root / "images" / camera.name).string(), "",
-                             "cannot create the folder: " + ec.message());
-  }
+  for (std::size_t j = 0; j < scene.truth.poses.size(); ++j)
+    for (std::size_t k = 0; k < scene.dataset.cameras.size(); ++k)
+      if (scene.truth.poses[j].points_px.count(scene.dataset.cameras[k].name)) views.push_back({j, k});
+  return views;
+}
 
+/// Renders the views on a pool of threads, one image per thread in memory,
+/// and hands each to `sink(view index, image)` (called concurrently). Each
+/// image has its own seed derived from the render seed and the view, so the
+/// output does not depend on the thread count. The first exception stops the
+/// pool and is rethrown.
+void RenderViews(const SyntheticScene& scene, const std::vector<View>& views, const RenderOptions& render,
+                 int threads, const std::function<void(std::size_t, const cv::Mat&)>& sink,
+                 const std::function<void(std::size_t, std::size_t)>& progress) {
+  std::string why;
+  if (!render.Check(&why)) throw std::invalid_argument("bad render options: " + why);
+  if (!scene.dataset.target) throw std::invalid_argument("scene without a target");
+  if (scene.truth.poses.size() != scene.dataset.poses.size())
+    throw std::invalid_argument("scene truth does not match its poses");
   if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   threads = static_cast<int>(std::min<std::size_t>(threads, std::max<std::size_t>(1, views.size())));
 
@@ -95,11 +87,10 @@ void WriteSimulation(SyntheticScene* scene, const RenderOptions& render, const s
         options.seed = Mix(render.seed ^ Mix(view.pose * 0x10001u + view.camera));
         options.blur_sigma_px = CameraBlur(render.blur_sigma_px, render.seed, view.camera);
         const cv::Mat image =
-            RenderView(dataset.cameras[view.camera], *dataset.target,
-                       TrueCameraFromTarget(*scene, static_cast<int>(view.camera),
-                                            static_cast<int>(view.pose)),
+            RenderView(scene.dataset.cameras[view.camera], *scene.dataset.target,
+                       TrueCameraFromTarget(scene, static_cast<int>(view.camera), static_cast<int>(view.pose)),
                        options);
-        WritePng(view.path, image);
+        sink(i, image);
       } catch (...) {
         std::lock_guard<std::mutex> lock(mutex);
         if (!first_error) first_error = std::current_exception();
@@ -116,9 +107,57 @@ void WriteSimulation(SyntheticScene* scene, const RenderOptions& render, const s
   work();
   for (std::thread& thread : pool) thread.join();
   if (first_error) std::rethrow_exception(first_error);
+}
 
+}  // namespace
+
+void WriteSimulation(SyntheticScene* scene, const RenderOptions& render, const std::string& outdir,
+                     int threads, const std::function<void(std::size_t, std::size_t)>& progress) {
+  Dataset& dataset = scene->dataset;
+  // Absolute paths, so the dataset writer can make them relative to its file
+  // whatever the working directory.
+  const fs::path root = fs::absolute(fs::path(outdir)).lexically_normal();
+  const std::vector<View> views = VisibleViews(*scene);
+  std::vector<std::string> paths;
+  for (auto& pose : dataset.poses) pose.images.clear();
+  for (const View& view : views) {
+    const std::string& name = dataset.cameras[view.camera].name;
+    paths.push_back((root / "images" / name / (dataset.poses[view.pose].id + ".png")).string());
+    dataset.poses[view.pose].images[name] = paths.back();
+  }
+  for (const Camera& camera : dataset.cameras) {
+    std::error_code ec;
+    fs::create_directories(root / "images" / camera.name, ec);
+    if (ec) throw InputError((root / "images" / camera.name).string(), "",
+                             "cannot create the folder: " + ec.message());
+  }
+  RenderViews(*scene, views, render, threads,
+              [&](std::size_t i, const cv::Mat& image) { WritePng(paths[i], image); }, progress);
   SaveDataset(dataset, (root / "dataset.json").string());
   SaveGroundTruth(scene->truth, (root / "ground_truth.json").string());
+}
+
+void DetectSimulated(SyntheticScene* scene, const RenderOptions& render, int threads,
+                     const std::function<void(std::size_t, std::size_t)>& progress) {
+  Dataset& dataset = scene->dataset;
+  const std::vector<View> views = VisibleViews(*scene);
+  const std::unique_ptr<Detector> detector = MakeDetector(dataset.target);
+  std::vector<std::optional<Observation>> found(views.size());
+  RenderViews(*scene, views, render, threads,
+              [&](std::size_t i, const cv::Mat& image) {
+                const auto detection = detector->Detect(image);
+                if (!detection) return;
+                Observation obs;
+                obs.pose_id = dataset.poses[views[i].pose].id;
+                obs.camera = dataset.cameras[views[i].camera].name;
+                obs.ids = detection->ids;
+                obs.points_px = detection->points_px;
+                found[i] = std::move(obs);  // each slot written by one thread only
+              },
+              progress);
+  dataset.observations.clear();
+  for (auto& obs : found)
+    if (obs) dataset.observations.push_back(std::move(*obs));
 }
 
 }  // namespace handeye

@@ -21,4 +21,11 @@ void WriteSimulation(SyntheticScene* scene, const RenderOptions& render, const s
                      int threads = 0,
                      const std::function<void(std::size_t, std::size_t)>& progress = {});
 
+/// Renders every visible view of the scene in memory and runs the target's
+/// detector on it, replacing scene->dataset.observations with what was found
+/// (pose then camera order). The same images as WriteSimulation, without the
+/// PNG round trip: for benchmarks and tests that need detections, not files.
+void DetectSimulated(SyntheticScene* scene, const RenderOptions& render, int threads = 0,
+                     const std::function<void(std::size_t, std::size_t)>& progress = {});
+
 }  // namespace handeye

@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "support/bench_support.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace handeye::bench {
+
+double PeakRssMiB() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  return 0.0;
+}
+
+bool ResetPeakRss() {
+  std::ofstream clear("/proc/self/clear_refs");
+  clear << "5";
+  return static_cast<bool>(clear);
+}
+
+double Mean(const std::vector<double>& v) {
+  if (v.empty()) return 0.0;
+  double sum = 0;
+  for (double x : v) sum += x;
+  return sum / v.size();
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+double Rms(const std::vector<double>& v) {
+  if (v.empty()) return 0.0;
+  double sum = 0;
+  for (double x : v) sum += x * x;
+  return std::sqrt(sum / v.size());
+}
+
+std::string Table::Markdown() const {
+  std::vector<size_t> width(header_.size(), 3);
+  for (size_t c = 0; c < header_.size(); ++c) width[c] = std::max(width[c], header_[c].size());
+  for (const auto& row : rows_)
+    for (size_t c = 0; c < row.size() && c < width.size(); ++c) width[c] = std::max(width[c], row[c].size());
+  std::ostringstream out;
+  auto line = [&](const std::vector<std::string>& cells) {
+    out << "|";
+    for (size_t c = 0; c < width.size(); ++c) {
+      const std::string cell = c < cells.size() ? cells[c] : "";
+      out << " " << cell << std::string(width[c] - cell.size(), ' ') << " |";
+    }
+    out << "\n";
+  };
+  line(header_);
+  out << "|";
+  for (size_t w : width) out << std::string(w + 2, '-') << "|";
+  out << "\n";
+  for (const auto& row : rows_) line(row);
+  return out.str();
+}
+
+std::string Format(const char* fmt, ...) {
+  char buf[512];
+  va_list args;
+  va_start(args, fmt);
+  std::vsnprintf(buf, sizeof(buf), fmt, args);
+  va_end(args);
+  return buf;
+}
+
+CalibrationResult TruthAsResult(const SyntheticScene& scene) {
+  CalibrationResult at;
+  at.setup = scene.dataset.setup;
+  at.T_target = scene.truth.T_target;
+  for (const auto& cam : scene.dataset.cameras) {
+    CameraResult c;
+    c.name = cam.name;
+    c.calibrated = true;
+    c.T_cam = scene.truth.T_cam.at(cam.name);
+    at.cameras.push_back(c);
+  }
+  return at;
+}
+
+double DetectionNoisePx(const SyntheticScene& scene) {
+  double sum = 0;
+  size_t n = 0;
+  for (const Observation& obs : scene.dataset.observations) {
+    const int j = scene.dataset.PoseIndex(obs.pose_id);
+    const auto& truth = scene.truth.poses[j].points_px;
+    const auto it = truth.find(obs.camera);
+    if (it == truth.end()) continue;
+    for (size_t i = 0; i < obs.ids.size(); ++i)
+      for (size_t t = 0; t < it->second.ids.size(); ++t)
+        if (it->second.ids[t] == obs.ids[i]) {
+          sum += (obs.points_px[i] - it->second.points_px[t]).squaredNorm();
+          n += 2;
+        }
+  }
+  return n ? std::sqrt(sum / n) : 0.0;
+}
+
+std::vector<std::string> SplitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+}  // namespace handeye::bench
