@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -19,6 +20,35 @@ struct Grid {
   std::vector<cv::Point2f> px;
   cv::Point2d At(int a, int b) const { return px[static_cast<size_t>(b) * cols + a]; }
 };
+
+/// Grey level at a sub-pixel position (bilinear; clamped at the border).
+double Bilinear(const cv::Mat& gray, double x, double y) {
+  x = std::clamp(x, 0.0, gray.cols - 1.001);
+  y = std::clamp(y, 0.0, gray.rows - 1.001);
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const double fx = x - x0, fy = y - y0;
+  const auto* r0 = gray.ptr<std::uint8_t>(y0);
+  const auto* r1 = gray.ptr<std::uint8_t>(y0 + 1);
+  return (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
+}
+
+/// True when the image around `c` looks like a checkerboard X-junction: on a
+/// ring inside the four squares it is point-symmetric (two dark sectors
+/// opposite each other), so its first angular harmonic is small against the
+/// second. The end of a black square against the white margin (an L or T
+/// junction, which findChessboardCornersSB can mistake for a corner) has a
+/// first harmonic larger than its second.
+bool LooksLikeXJunction(const cv::Mat& gray, const cv::Point2d& c, double radius) {
+  constexpr int kSamples = 48;
+  std::complex<double> h1(0, 0), h2(0, 0);
+  for (int k = 0; k < kSamples; ++k) {
+    const double theta = 2 * M_PI * k / kSamples;
+    const double value = Bilinear(gray, c.x + radius * std::cos(theta), c.y + radius * std::sin(theta));
+    h1 += value * std::polar(1.0, -theta);
+    h2 += value * std::polar(1.0, -2 * theta);
+  }
+  return std::abs(h1) < 0.5 * std::abs(h2);
+}
 
 /// Distance (px) from grid point (a, b) to its nearest grid neighbour: the
 /// scale of its squares in the image.
@@ -92,7 +122,8 @@ bool RefineCorner(const cv::Mat& gx, const cv::Mat& gy, const cv::Point& origin,
   return true;
 }
 
-/// Refines every corner of the grid in place; false if one fails.
+/// Refines every corner of the grid in place; false if one fails or does
+/// not look like a checkerboard corner.
 bool RefineGrid(const cv::Mat& gray, Grid* grid) {
   // Gradients only over the board's bounding box plus the largest window.
   cv::Rect box = cv::boundingRect(grid->px);
@@ -110,6 +141,7 @@ bool RefineGrid(const cv::Mat& gray, Grid* grid) {
                                        kMinRadiusPx, kMaxRadiusPx);
       cv::Point2d corner = grid->At(a, b);
       if (!RefineCorner(gx, gy, box.tl(), radius, &corner)) return false;
+      if (!LooksLikeXJunction(gray, corner, 0.5 * radius)) return false;
       refined[static_cast<size_t>(b) * grid->cols + a] =
           cv::Point2f(static_cast<float>(corner.x), static_cast<float>(corner.y));
     }
@@ -118,34 +150,83 @@ bool RefineGrid(const cv::Mat& gray, Grid* grid) {
   return true;
 }
 
-/// The full grid of inner corners, refined, or nullopt. OpenCV's sector-based
-/// detector (findChessboardCornersSB) is used because the classic
-/// cv::findChessboardCorners took 4-15 s on cluttered 1920x1080 images with
-/// no board or a partly visible one, even with CALIB_CB_FAST_CHECK. Large
-/// images are tried at half resolution first (about 4x faster); the full
-/// resolution is the fallback, for small squares.
+/// How far the points of `px`, read as rows of `width` consecutive points,
+/// are from lying on a grid: the largest change between consecutive steps
+/// along a row, relative to the median step. Small for the true layout; a row
+/// read with the wrong width wraps onto the next row and jumps.
+double RowLayoutCost(const std::vector<cv::Point2f>& px, int width) {
+  std::vector<double> steps;
+  double worst_change = 0;
+  for (size_t row = 0; row + width <= px.size(); row += width) {
+    for (int k = 1; k < width; ++k) {
+      const cv::Point2f step = px[row + k] - px[row + k - 1];
+      steps.push_back(cv::norm(step));
+      if (k > 1) worst_change = std::max<double>(worst_change, cv::norm(step - (px[row + k - 1] - px[row + k - 2])));
+    }
+  }
+  if (steps.empty()) return 0;
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  const double median = steps[steps.size() / 2];
+  return median > 0 ? worst_change / median : std::numeric_limits<double>::infinity();
+}
+
+/// Puts OpenCV's corners into `grid` with cols points per row. OpenCV may
+/// return a board turned by about 90° as rows points per row (seen with
+/// findChessboardCornersSB); the layout is then read from the geometry and
+/// transposed. Handedness is not assumed here: Detect() checks it.
+void ToGridLayout(std::vector<cv::Point2f> px, Grid* grid) {
+  const int cols = grid->cols, rows = grid->rows;
+  if (cols != rows && RowLayoutCost(px, rows) < RowLayoutCost(px, cols)) {
+    // px[r * rows + c], r < cols, c < rows: point (a, b) = (r, c).
+    grid->px.assign(px.size(), cv::Point2f());
+    for (int a = 0; a < cols; ++a)
+      for (int b = 0; b < rows; ++b) grid->px[static_cast<size_t>(b) * cols + a] = px[static_cast<size_t>(a) * rows + b];
+    return;
+  }
+  grid->px = std::move(px);
+}
+
+/// The full grid of inner corners, refined and verified, or nullopt.
+///
+/// OpenCV's sector-based detector (findChessboardCornersSB) is used because
+/// the classic cv::findChessboardCorners took 4-15 s on cluttered 1920x1080
+/// images with no board or a partly visible one, even with
+/// CALIB_CB_FAST_CHECK. Large images are tried at half resolution first
+/// (about 4x faster); full resolution is the fallback, for small squares.
+/// Without CALIB_CB_ACCURACY, SB sometimes returns a grid shifted by one line
+/// onto the ends of the outer black squares (seen on a board turned by about
+/// 90°); verification rejects such a grid, and only then is the same image
+/// searched again with CALIB_CB_ACCURACY, which is several times slower.
 std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
   const cv::Size pattern(cols, rows);
   const int flags = cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_EXHAUSTIVE;
   Grid grid;
   grid.cols = cols;
   grid.rows = rows;
-  auto complete_and_refined = [&]() {
-    return grid.px.size() == static_cast<size_t>(cols) * rows && RefineGrid(gray, &grid);
+  // One search at one scale: found (and refined and verified), or why not.
+  enum class Outcome { kFound, kNone, kRejected };
+  auto search = [&](const cv::Mat& image, double scale, int extra_flags) {
+    std::vector<cv::Point2f> found;
+    if (!cv::findChessboardCornersSB(image, pattern, found, flags | extra_flags)) return Outcome::kNone;
+    if (found.size() != static_cast<size_t>(cols) * rows) return Outcome::kNone;
+    // A pixel k of an image scaled by 1/2 averages full pixels 2k and 2k + 1
+    // (centres at integers, SPEC §2), so its centre is at 2k + 0.5.
+    const float offset = static_cast<float>(0.5 * (scale - 1));
+    for (auto& p : found) p = static_cast<float>(scale) * p + cv::Point2f(offset, offset);
+    ToGridLayout(std::move(found), &grid);
+    return RefineGrid(gray, &grid) ? Outcome::kFound : Outcome::kRejected;
+  };
+  auto search_scale = [&](const cv::Mat& image, double scale) {
+    const Outcome outcome = search(image, scale, 0);
+    if (outcome != Outcome::kRejected) return outcome == Outcome::kFound;
+    return search(image, scale, cv::CALIB_CB_ACCURACY) == Outcome::kFound;
   };
   if (std::min(gray.cols, gray.rows) >= 720) {
     cv::Mat half;
     cv::resize(gray, half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
-    if (cv::findChessboardCornersSB(half, pattern, grid.px, flags)) {
-      // Half-resolution pixel k averages full pixels 2k and 2k + 1 (centres
-      // at integers, SPEC §2), so its centre is at 2k + 0.5.
-      for (auto& p : grid.px) p = 2.0f * p + cv::Point2f(0.5f, 0.5f);
-      if (complete_and_refined()) return grid;
-    }
+    if (search_scale(half, 2.0)) return grid;
   }
-  grid.px.clear();
-  if (cv::findChessboardCornersSB(gray, pattern, grid.px, flags) && complete_and_refined())
-    return grid;
+  if (search_scale(gray, 1.0)) return grid;
   return std::nullopt;
 }
 

@@ -319,7 +319,18 @@ void CastSheet(const Camera& camera, const PlaneSampler& sampler, const cv::Rect
   });
   cv::dilate(mixed, mixed, cv::Mat::ones(3, 3, CV_8U));
 
+  // Sample positions (fractions of the pixel from its top-left corner): one
+  // per cell of an n × n split, and within its cell shifted so that all n²
+  // samples have distinct u and distinct v ("n-rooks"). A plain grid has only
+  // n distinct columns, so an edge along the pixel grid would be placed to
+  // 1/(2n) px; here to 1/(2n²). The pattern is point-symmetric about the
+  // pixel centre, which keeps the rendering unbiased.
   const int n = options.supersampling;
+  std::vector<std::pair<double, double>> pattern;
+  pattern.reserve(static_cast<size_t>(n) * n);
+  for (int k = 0; k < n; ++k)
+    for (int l = 0; l < n; ++l)
+      pattern.emplace_back((k * n + l + 0.5) / (n * n), (l * n + k + 0.5) / (n * n));
   const double contrast = options.white_level - options.black_level;
   cv::Mat roi = (*image)(box);
   cv::parallel_for_(cv::Range(0, nv), [&](const cv::Range& rows) {
@@ -332,18 +343,14 @@ void CastSheet(const Camera& camera, const PlaneSampler& sampler, const cv::Rect
           if (value_row[pu] != kMiss) out[pu] = static_cast<float>(options.black_level + contrast * value_row[pu]);
           continue;
         }
-        // Box filter over the pixel's area: n × n samples at the centres of
-        // an n × n split, symmetric about the pixel centre.
+        // Box filter over the pixel's area with n × n samples.
         double albedo_sum = 0;
         int hits = 0;
-        for (int sv = 0; sv < n; ++sv) {
-          const double fv = (sv + 0.5) / n;
-          for (int su = 0; su < n; ++su) {
-            const float a = sampler.Sample(bilinear(pu, pv, (su + 0.5) / n, fv));
-            if (a == kMiss) continue;
-            albedo_sum += a;
-            ++hits;
-          }
+        for (const auto& [fu, fv] : pattern) {
+          const float a = sampler.Sample(bilinear(pu, pv, fu, fv));
+          if (a == kMiss) continue;
+          albedo_sum += a;
+          ++hits;
         }
         const double coverage = static_cast<double>(hits) / (n * n);
         const double sheet = hits ? options.black_level + contrast * albedo_sum / hits : 0.0;

@@ -15,8 +15,12 @@
 namespace handeye {
 
 struct RenderOptions {
-  /// Samples per pixel along each axis where the target is seen (n×n).
-  int supersampling = 5;
+  /// Samples per pixel along each axis where the target is seen (n×n, one in
+  /// each cell of an n×n split of the pixel). Keep it even: with n odd a
+  /// sample lies at the pixel centre, and a board edge running exactly through
+  /// pixel centres (e.g. a corner placed at an integer pixel) would be drawn
+  /// shifted by a fraction of a pixel.
+  int supersampling = 6;
   /// Gaussian blur σ in pixels (optics), 0 for none.
   double blur_sigma_px = 0.7;
   /// Sensor noise σ in grey levels.
