@@ -29,7 +29,8 @@ double Bilinear(const cv::Mat& gray, double x, double y) {
   const double fx = x - x0, fy = y - y0;
   const auto* r0 = gray.ptr<std::uint8_t>(y0);
   const auto* r1 = gray.ptr<std::uint8_t>(y0 + 1);
-  return (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
+  return (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) +
+         fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
 }
 
 /// True when the image around `c` looks like a checkerboard X-junction: on a
@@ -43,7 +44,8 @@ bool LooksLikeXJunction(const cv::Mat& gray, const cv::Point2d& c, double radius
   std::complex<double> h1(0, 0), h2(0, 0);
   for (int k = 0; k < kSamples; ++k) {
     const double theta = 2 * M_PI * k / kSamples;
-    const double value = Bilinear(gray, c.x + radius * std::cos(theta), c.y + radius * std::sin(theta));
+    const double value =
+        Bilinear(gray, c.x + radius * std::cos(theta), c.y + radius * std::sin(theta));
     h1 += value * std::polar(1.0, -theta);
     h2 += value * std::polar(1.0, -2 * theta);
   }
@@ -161,7 +163,9 @@ double RowLayoutCost(const std::vector<cv::Point2f>& px, int width) {
     for (int k = 1; k < width; ++k) {
       const cv::Point2f step = px[row + k] - px[row + k - 1];
       steps.push_back(cv::norm(step));
-      if (k > 1) worst_change = std::max<double>(worst_change, cv::norm(step - (px[row + k - 1] - px[row + k - 2])));
+      if (k > 1)
+        worst_change =
+            std::max<double>(worst_change, cv::norm(step - (px[row + k - 1] - px[row + k - 2])));
     }
   }
   if (steps.empty()) return 0;
@@ -180,7 +184,8 @@ void ToGridLayout(std::vector<cv::Point2f> px, Grid* grid) {
     // px[r * rows + c], r < cols, c < rows: point (a, b) = (r, c).
     grid->px.assign(px.size(), cv::Point2f());
     for (int a = 0; a < cols; ++a)
-      for (int b = 0; b < rows; ++b) grid->px[static_cast<size_t>(b) * cols + a] = px[static_cast<size_t>(a) * rows + b];
+      for (int b = 0; b < rows; ++b)
+        grid->px[static_cast<size_t>(b) * cols + a] = px[static_cast<size_t>(a) * rows + b];
     return;
   }
   grid->px = std::move(px);
@@ -207,7 +212,8 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
   enum class Outcome { kFound, kNone, kRejected };
   auto search = [&](const cv::Mat& image, double scale, int extra_flags) {
     std::vector<cv::Point2f> found;
-    if (!cv::findChessboardCornersSB(image, pattern, found, flags | extra_flags)) return Outcome::kNone;
+    if (!cv::findChessboardCornersSB(image, pattern, found, flags | extra_flags))
+      return Outcome::kNone;
     if (found.size() != static_cast<size_t>(cols) * rows) return Outcome::kNone;
     // A pixel k of an image scaled by 1/2 averages full pixels 2k and 2k + 1
     // (centres at integers, SPEC §2), so its centre is at 2k + 0.5.
@@ -240,23 +246,21 @@ double MeanInside(const cv::Mat& gray, const cv::Point2d& q0, const cv::Point2d&
     for (double t = 0.3; t < 0.71; t += 0.1) {
       const cv::Point2d p = (1 - t) * ((1 - s) * q0 + s * q1) + t * ((1 - s) * q3 + s * q2);
       if (p.x < 0 || p.y < 0 || p.x > gray.cols - 1 || p.y > gray.rows - 1) continue;
-      const int x0 = std::min(static_cast<int>(p.x), gray.cols - 2);
-      const int y0 = std::min(static_cast<int>(p.y), gray.rows - 2);
-      const double fx = p.x - x0, fy = p.y - y0;
-      const auto* r0 = gray.ptr<std::uint8_t>(y0);
-      const auto* r1 = gray.ptr<std::uint8_t>(y0 + 1);
-      sum += (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
+      sum += Bilinear(gray, p.x, p.y);
       ++count;
     }
   }
   return count ? sum / count : std::nan("");
 }
 
-/// Parity (a + b) % 2 of the grid cells that are black. Cell (a, b) is the
-/// square with corners (a, b) and (a + 1, b + 1); a = -1 or cols - 1 (and the
-/// same for b) are the outer squares, found by extrapolating one square out.
-/// Inner cells decide when both parities have one; tiny boards add the outer ring.
-int BlackParity(const cv::Mat& gray, const Grid& g) {
+/// Parity (a + b) % 2 of the grid cells that are black, or nullopt when the
+/// two parities do not differ in grey level. Cell (a, b) is the square with
+/// corners (a, b) and (a + 1, b + 1); a = -1 or cols - 1 (and the same for b)
+/// are the outer squares, found by extrapolating one square out. All inner
+/// cells vote (each class mean averages many squares, so shading, noise or a
+/// stray reflection on one square cannot flip it); tiny boards with a single
+/// inner cell add the outer ring.
+std::optional<int> BlackParity(const cv::Mat& gray, const Grid& g) {
   auto point = [&g](int a, int b) {
     // Linear extrapolation one step past the grid on either side.
     const int ca = std::clamp(a, 0, g.cols - 1), cb = std::clamp(b, 0, g.rows - 1);
@@ -271,7 +275,8 @@ int BlackParity(const cv::Mat& gray, const Grid& g) {
     const int lo = outer ? -1 : 0;
     for (int b = lo; b < g.rows - 1 + (outer ? 1 : 0); ++b) {
       for (int a = lo; a < g.cols - 1 + (outer ? 1 : 0); ++a) {
-        const double m = MeanInside(gray, point(a, b), point(a + 1, b), point(a + 1, b + 1), point(a, b + 1));
+        const double m =
+            MeanInside(gray, point(a, b), point(a + 1, b), point(a + 1, b + 1), point(a, b + 1));
         if (std::isnan(m)) continue;
         const int parity = ((a + b) % 2 + 2) % 2;
         sum[parity] += m;
@@ -284,7 +289,11 @@ int BlackParity(const cv::Mat& gray, const Grid& g) {
   };
   auto means = class_means(false);
   if (means[2] < 1) means = class_means(true);
-  return means[0] <= means[1] ? 0 : 1;
+  // A detected board has black and white squares; without a clear difference
+  // the colours (and so the ids) would be a coin toss.
+  constexpr double kMinContrast = 5.0;  // grey levels
+  if (!(std::abs(means[0] - means[1]) >= kMinContrast)) return std::nullopt;
+  return means[0] < means[1] ? 0 : 1;
 }
 
 }  // namespace
@@ -320,7 +329,8 @@ std::optional<Detection> CheckerboardDetector::Detect(const cv::Mat& gray) const
     return grid.At(m[0] + m[1] * i + m[2] * j, m[3] + m[4] * i + m[5] * j);
   };
 
-  const int black_parity = BlackParity(gray, grid);
+  const std::optional<int> black_parity = BlackParity(gray, grid);
+  if (!black_parity) return std::nullopt;
   const Map* best = nullptr;
   double best_score = -1e9;
   for (const Map& m : maps) {
@@ -332,11 +342,14 @@ std::optional<Detection> CheckerboardDetector::Detect(const cv::Mat& gray) const
     for (int j = 0; j + 1 < rows; ++j)
       for (int i = 0; i < cols; ++i) d_j += grid_point(m, i, j + 1) - grid_point(m, i, j);
     if (d_i.x * d_j.y - d_i.y * d_j.x <= 0) continue;
-    // SPEC §4: target square (0, 0), between corners (0, 0) and (1, 1), is black.
+    // SPEC §4: the square on the -x, -y side of corner (0, 0) is black. It
+    // touches (0, 0) diagonally to target square (0, 0), between corners
+    // (0, 0) and (1, 1), so both have one colour; square (0, 0) is an inner
+    // cell, measured between four detected corners rather than extrapolated.
     const int a0 = m[0], b0 = m[3];
     const int a1 = m[0] + m[1] + m[2], b1 = m[3] + m[4] + m[5];
     const int parity = (std::min(a0, a1) + std::min(b0, b1)) % 2;
-    if (parity != black_parity) continue;
+    if (parity != *black_parity) continue;
     // Boards that look the same turned (cols + rows even) leave several maps;
     // take the one whose i axis points most to the image's right, so views
     // of similar orientation number the board alike.

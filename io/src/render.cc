@@ -5,8 +5,9 @@
 // a pinhole image instead would resample it and bias the edges.
 #include "handeye/io/render.h"
 
-#include <algorithm>
 #include <ceres/jet.h>
+
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <opencv2/core.hpp>
@@ -46,10 +47,10 @@ std::uint64_t MixSeed(std::uint64_t x) {
 }
 
 /// Rays through pixels: the normalised point (x, y) with Distort(x, y) equal to
-/// the pixel's distorted normalised point. Newton warm-started from a
-/// neighbouring pixel's ray converges in one or two steps, several times faster
-/// than Camera::Undistort's cold start; Camera::Undistort stays the reference
-/// and the fallback, so both agree to its 1e-14 tolerance.
+/// the pixel's distorted normalised point. Newton warm-started from the
+/// neighbouring pixel's ray needs fewer steps than Camera::Undistort, which
+/// starts from the undistorted point for every pixel; it stops at the same
+/// 1e-14 residual, and Camera::Undistort stays the fallback.
 class RayTracer {
  public:
   explicit RayTracer(const Camera& camera) : camera_(camera), distorted_(camera.HasDistortion()) {
@@ -207,7 +208,8 @@ cv::Mat MakeBackground(int width, int height, bool clutter, std::uint64_t seed) 
     for (int v = 0; v < height; ++v) {
       auto* row = canvas.ptr<std::uint8_t>(v);
       for (int u = 0; u < width; ++u) {
-        const double s = std::clamp(0.5 + (u - width / 2.0) * cu + (v - height / 2.0) * sv, 0.0, 1.0);
+        const double s =
+            std::clamp(0.5 + (u - width / 2.0) * cu + (v - height / 2.0) * sv, 0.0, 1.0);
         row[u] = cv::saturate_cast<std::uint8_t>(g0 + s * (g1 - g0));
       }
     }
@@ -241,9 +243,10 @@ cv::Mat MakeBackground(int width, int height, bool clutter, std::uint64_t seed) 
       const cv::Point d(static_cast<int>(size * std::cos(a)), static_cast<int>(size * std::sin(a)));
       cv::line(canvas, centre - d, centre + d, random_grey(), rng.uniform(1, 9), cv::LINE_AA);
     } else {  // shaded patch: a small ramp inside a rectangle
-      const int w = std::max(2, static_cast<int>(size)), h = std::max(2, static_cast<int>(size * rng.uniform(0.3, 1.0)));
-      const cv::Rect patch = cv::Rect(centre.x - w / 2, centre.y - h / 2, w, h) &
-                             cv::Rect(0, 0, width, height);
+      const int w = std::max(2, static_cast<int>(size)),
+                h = std::max(2, static_cast<int>(size * rng.uniform(0.3, 1.0)));
+      const cv::Rect patch =
+          cv::Rect(centre.x - w / 2, centre.y - h / 2, w, h) & cv::Rect(0, 0, width, height);
       if (patch.area() == 0) continue;
       const double g0 = rng.uniform(0.0, 255.0), g1 = rng.uniform(0.0, 255.0);
       for (int v = patch.y; v < patch.y + patch.height; ++v) {
@@ -258,7 +261,8 @@ cv::Mat MakeBackground(int width, int height, bool clutter, std::uint64_t seed) 
   // Low-frequency illumination: a coarse random gain field, smoothly upsampled.
   cv::Mat gain(4, 6, CV_32F);
   for (int v = 0; v < gain.rows; ++v)
-    for (int u = 0; u < gain.cols; ++u) gain.at<float>(v, u) = static_cast<float>(rng.uniform(0.75, 1.2));
+    for (int u = 0; u < gain.cols; ++u)
+      gain.at<float>(v, u) = static_cast<float>(rng.uniform(0.75, 1.2));
   cv::resize(gain, gain, cv::Size(width, height), 0, 0, cv::INTER_CUBIC);
   cv::multiply(background, gain, background);
   return background;
@@ -278,11 +282,13 @@ void CastSheet(const Camera& camera, const PlaneSampler& sampler, const cv::Rect
   cv::parallel_for_(cv::Range(0, nv + 1), [&](const cv::Range& rows) {
     for (int cv_ = rows.start; cv_ < rows.end; ++cv_) {
       const double v = box.y - 0.5 + cv_;
-      Eigen::Vector2d previous = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+      Eigen::Vector2d previous =
+          Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
       for (int cu = 0; cu <= nu; ++cu) {
         const double u = box.x - 0.5 + cu;
         Eigen::Vector2d ray;
-        if (!tracer.Ray(u, v, &previous, &ray)) ray.setConstant(std::numeric_limits<double>::quiet_NaN());
+        if (!tracer.Ray(u, v, &previous, &ray))
+          ray.setConstant(std::numeric_limits<double>::quiet_NaN());
         previous = ray;
         corner_ray[static_cast<size_t>(cv_) * stride + cu] = ray;
         corner_value[static_cast<size_t>(cv_) * stride + cu] = sampler.Sample(ray);
@@ -299,8 +305,9 @@ void CastSheet(const Camera& camera, const PlaneSampler& sampler, const cv::Rect
   auto bilinear = [&](int pu, int pv, double fu, double fv) {
     // fu, fv in [0, 1] across the pixel from its top-left corner.
     const size_t i00 = static_cast<size_t>(pv) * stride + pu;
-    return Eigen::Vector2d((1 - fv) * ((1 - fu) * corner_ray[i00] + fu * corner_ray[i00 + 1]) +
-                           fv * ((1 - fu) * corner_ray[i00 + stride] + fu * corner_ray[i00 + stride + 1]));
+    return Eigen::Vector2d(
+        (1 - fv) * ((1 - fu) * corner_ray[i00] + fu * corner_ray[i00 + 1]) +
+        fv * ((1 - fu) * corner_ray[i00 + stride] + fu * corner_ray[i00 + stride + 1]));
   };
   cv::parallel_for_(cv::Range(0, nv), [&](const cv::Range& rows) {
     for (int pv = rows.start; pv < rows.end; ++pv) {
@@ -340,7 +347,8 @@ void CastSheet(const Camera& camera, const PlaneSampler& sampler, const cv::Rect
       auto* out = roi.ptr<float>(pv);
       for (int pu = 0; pu < nu; ++pu) {
         if (!mixed_row[pu]) {
-          if (value_row[pu] != kMiss) out[pu] = static_cast<float>(options.black_level + contrast * value_row[pu]);
+          if (value_row[pu] != kMiss)
+            out[pu] = static_cast<float>(options.black_level + contrast * value_row[pu]);
           continue;
         }
         // Box filter over the pixel's area with n × n samples.

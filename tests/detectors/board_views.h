@@ -16,7 +16,8 @@ namespace handeye::test {
 
 /// A camera with principal point near the image centre (slightly off, so no
 /// symmetry hides a convention error).
-inline Camera MakeTestCamera(int width, int height, double f, const std::vector<double>& distortion) {
+inline Camera MakeTestCamera(int width, int height, double f,
+                             const std::vector<double>& distortion) {
   std::string why;
   auto camera = Camera::Make("cam0", width, height, f, f * 1.0004, width / 2.0 - 0.37,
                              height / 2.0 + 0.61, distortion, &why);
@@ -36,16 +37,16 @@ inline Eigen::Isometry3d BoardPose(const CheckerboardTarget& board, double dista
                                    double in_plane_rad, double tilt_rad,
                                    const Eigen::Vector2d& tilt_axis, const Eigen::Vector2d& xy) {
   const Eigen::Vector3d axis(tilt_axis.x(), tilt_axis.y(), 0.0);
-  const Eigen::Matrix3d R_cam_target =
-      (Eigen::AngleAxisd(tilt_rad, axis.normalized()) *
-       Eigen::AngleAxisd(in_plane_rad, Eigen::Vector3d::UnitZ()))
-          .toRotationMatrix();
+  const Eigen::Matrix3d R_cam_target = (Eigen::AngleAxisd(tilt_rad, axis.normalized()) *
+                                        Eigen::AngleAxisd(in_plane_rad, Eigen::Vector3d::UnitZ()))
+                                           .toRotationMatrix();
   const double s = board.square_size_m();
   const Eigen::Vector3d centre_target((board.cols() - 1) * s / 2, (board.rows() - 1) * s / 2, 0);
   Eigen::Isometry3d T_cam_target = Eigen::Isometry3d::Identity();
   T_cam_target.linear() = R_cam_target;
   T_cam_target.translation() =
-      Eigen::Vector3d(xy.x() * distance_m, xy.y() * distance_m, distance_m) - R_cam_target * centre_target;
+      Eigen::Vector3d(xy.x() * distance_m, xy.y() * distance_m, distance_m) -
+      R_cam_target * centre_target;
   return T_cam_target;
 }
 

@@ -20,7 +20,7 @@ struct AccuracyCase {
   int width, height;
   double square_px;  ///< square size in the image (fronto-parallel, at the board's centre)
   double blur_sigma_px;
-  int cols, rows;    ///< inner corners, cols + rows odd
+  int cols, rows;  ///< inner corners, cols + rows odd
   double bound_mean_px;
 };
 

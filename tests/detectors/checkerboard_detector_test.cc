@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // When the checkerboard detector must say "not found", and that it can be
 // shared between threads.
+#include "handeye/detectors/checkerboard_detector.h"
+
 #include <catch2/catch.hpp>
 #include <memory>
 #include <thread>
 
 #include "board_views.h"
-#include "handeye/detectors/checkerboard_detector.h"
 #include "handeye/detectors/registry.h"
 #include "handeye/io/render.h"
 
@@ -35,7 +36,8 @@ TEST_CASE("Checkerboard detector: no board in a cluttered image gives nullopt", 
   CHECK_FALSE(detector->Detect(cv::Mat(600, 800, CV_8U, cv::Scalar(128))));
 }
 
-TEST_CASE("Checkerboard detector: a board partly outside the image gives nullopt", "[checkerboard]") {
+TEST_CASE("Checkerboard detector: a board partly outside the image gives nullopt",
+          "[checkerboard]") {
   // A checkerboard has no per-corner identity: only the full grid of inner
   // corners can be numbered.
   auto board = std::make_shared<const CheckerboardTarget>(7, 6, 0.03);
@@ -46,7 +48,8 @@ TEST_CASE("Checkerboard detector: a board partly outside the image gives nullopt
   for (const auto& [x, y] : offsets) {
     const Eigen::Isometry3d T_cam_target = test::BoardPose(*board, 0.75, 0.2, 0.2, {1, 0}, {x, y});
     int inside = 0;
-    for (const auto& uv : test::TruePixels(camera, *board, T_cam_target)) inside += camera.InImage(uv);
+    for (const auto& uv : test::TruePixels(camera, *board, T_cam_target))
+      inside += camera.InImage(uv);
     INFO("corners inside the image: " << inside << " of 42");
     REQUIRE(inside >= 10);
     REQUIRE(inside < 42);
@@ -59,7 +62,8 @@ TEST_CASE("Checkerboard detector: a board partly outside the image gives nullopt
 TEST_CASE("Checkerboard detector rejects images that are not 8-bit grey", "[checkerboard]") {
   const CheckerboardDetector detector(std::make_shared<const CheckerboardTarget>(4, 3, 0.03));
   CHECK_THROWS_AS(detector.Detect(cv::Mat()), std::invalid_argument);
-  CHECK_THROWS_AS(detector.Detect(cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(0))), std::invalid_argument);
+  CHECK_THROWS_AS(detector.Detect(cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(0))),
+                  std::invalid_argument);
   CHECK_THROWS_AS(detector.Detect(cv::Mat(48, 64, CV_32F, cv::Scalar(0))), std::invalid_argument);
 }
 

@@ -104,7 +104,8 @@ TEST_CASE("Checkerboard ids follow the board through image and board rotations",
     const auto truth = TruePixels(camera, *board, T_cam_target);
     int turn = 0;
     for (const View& view : TurnedViews(image, truth)) {
-      INFO("board turned " << in_plane_deg << " deg in plane, image turned " << 90 * turn++ << " deg");
+      INFO("board turned " << in_plane_deg << " deg in plane, image turned " << 90 * turn++
+                           << " deg");
       const auto detection = detector->Detect(view.image);
       REQUIRE(detection);
       CHECK(WorstError(*detection, view.truth, [](int id) { return id; }) < 0.3);
@@ -131,11 +132,13 @@ TEST_CASE("Square checkerboard: quarter turns resolved, the 180-degree turn cons
     const cv::Mat image = RenderView(camera, *board, T_cam_target, options);
     int turn = 0;
     for (const View& view : TurnedViews(image, TruePixels(camera, *board, T_cam_target))) {
-      INFO("board turned " << in_plane_deg << " deg in plane, image turned " << 90 * turn++ << " deg");
+      INFO("board turned " << in_plane_deg << " deg in plane, image turned " << 90 * turn++
+                           << " deg");
       const auto detection = detector->Detect(view.image);
       REQUIRE(detection);
       double best = INFINITY;
-      for (const auto& relabel : symmetries) best = std::min(best, WorstError(*detection, view.truth, relabel));
+      for (const auto& relabel : symmetries)
+        best = std::min(best, WorstError(*detection, view.truth, relabel));
       CHECK(best < 0.3);
     }
   }
@@ -162,7 +165,8 @@ TEST_CASE("Ambiguous checkerboards warn and are numbered up to their symmetry", 
       REQUIRE(detection);
       double best = INFINITY;
       for (const auto& relabel : symmetries)
-        best = std::min(best, WorstError(*detection, TruePixels(camera, *board, T_cam_target), relabel));
+        best = std::min(best,
+                        WorstError(*detection, TruePixels(camera, *board, T_cam_target), relabel));
       CHECK(best < 0.3);
     }
   }

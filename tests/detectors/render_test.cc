@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The renderer is the ground truth of every detector accuracy figure, so its
 // own conventions and bias are pinned here first.
+#include "handeye/io/render.h"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <opencv2/core.hpp>
 
 #include "board_views.h"
-#include "handeye/io/render.h"
 
 using namespace handeye;
 using handeye::test::MakeTestCamera;
@@ -69,11 +70,11 @@ TEST_CASE("Render pixel convention: a corner at an integer pixel is point-symmet
   const double distance = 0.5;
   // Corner (1, 1) is at (s, s, 0); put it on the ray through (u0, v0).
   Eigen::Isometry3d T_cam_target = Eigen::Isometry3d::Identity();
-  T_cam_target.translation() = Eigen::Vector3d((u0 - camera.cx()) / camera.fx() * distance - 0.05,
-                                               (v0 - camera.cy()) / camera.fy() * distance - 0.05,
-                                               distance);
-  REQUIRE((*camera.Project(T_cam_target * Eigen::Vector3d(0.05, 0.05, 0)) -
-           Eigen::Vector2d(u0, v0)).norm() < 1e-9);
+  T_cam_target.translation() =
+      Eigen::Vector3d((u0 - camera.cx()) / camera.fx() * distance - 0.05,
+                      (v0 - camera.cy()) / camera.fy() * distance - 0.05, distance);
+  REQUIRE((*camera.Project(T_cam_target * Eigen::Vector3d(0.05, 0.05, 0)) - Eigen::Vector2d(u0, v0))
+              .norm() < 1e-9);
   const RenderOptions options = CleanOptions();
   const cv::Mat image = RenderView(camera, board, T_cam_target, options);
 
@@ -129,8 +130,7 @@ TEST_CASE("Render is deterministic from the seed", "[render]") {
   CHECK(cv::norm(a, c, cv::NORM_INF) > 0);
 }
 
-TEST_CASE("Render places edges where Camera::Project says, without bias",
-          "[render]") {
+TEST_CASE("Render places edges where Camera::Project says, without bias", "[render]") {
   // Large squares, tilted, turned a little and through lens distortion. For
   // every image row that crosses a near-vertical board edge (and every column
   // crossing a near-horizontal one), the edge position measured from the
@@ -138,20 +138,26 @@ TEST_CASE("Render places edges where Camera::Project says, without bias",
   const Camera camera = MakeTestCamera(640, 480, 600.0, MildDistortion());
   const CheckerboardTarget board(5, 4, 0.06);
   const double s = board.square_size_m();
-  const Eigen::Isometry3d T_cam_target = test::BoardPose(board, 1.0, 0.12, 0.35, {1, 0.4}, {-0.02, 0.03});
+  const Eigen::Isometry3d T_cam_target =
+      test::BoardPose(board, 1.0, 0.12, 0.35, {1, 0.4}, {-0.02, 0.03});
   const RenderOptions options = CleanOptions();
   const cv::Mat image = RenderView(camera, board, T_cam_target, options);
 
   // Point of the target edge {x = x_m} (or {y = y_m}) whose image has the given
   // v (or u), by bisection along the edge; returns the other image coordinate.
-  auto project = [&](double x, double y) { return *camera.Project(T_cam_target * Eigen::Vector3d(x, y, 0)); };
+  auto project = [&](double x, double y) {
+    return *camera.Project(T_cam_target * Eigen::Vector3d(x, y, 0));
+  };
   auto crossing = [&](bool vertical_edge, double line_m, double lo_m, double hi_m, double target) {
     auto at = [&](double t) { return vertical_edge ? project(line_m, t) : project(t, line_m); };
     const int coord = vertical_edge ? 1 : 0;
     const bool increasing = at(hi_m)[coord] > at(lo_m)[coord];
     for (int it = 0; it < 100; ++it) {
       const double mid = 0.5 * (lo_m + hi_m);
-      if ((at(mid)[coord] < target) == increasing) lo_m = mid; else hi_m = mid;
+      if ((at(mid)[coord] < target) == increasing)
+        lo_m = mid;
+      else
+        hi_m = mid;
     }
     return at(0.5 * (lo_m + hi_m))[1 - coord];
   };
@@ -191,7 +197,8 @@ TEST_CASE("Render places edges where Camera::Project says, without bias",
   }
   const int n = options.supersampling;
   WARN("render edge crossings: " << count << ", signed mean " << sum / count << " px, mean |error| "
-                                 << sum_abs / count << " px, worst " << worst << " px (n = " << n << ")");
+                                 << sum_abs / count << " px, worst " << worst << " px (n = " << n
+                                 << ")");
   REQUIRE(count > 500);
   // No bias: the signed errors average out.
   CHECK(std::abs(sum / count) < 0.003);
@@ -223,7 +230,8 @@ TEST_CASE("Render places an edge along the pixel grid to 1/(2n²) px", "[render]
       const double u = EdgeCrossingInRow(image, static_cast<int>(v_edge) + k, 93, 109,
                                          options.black_level, options.white_level);
       const cv::Mat column = image.col(static_cast<int>(u_edge) - k).t();
-      const double v = EdgeCrossingInRow(column, 0, 69, 85, options.black_level, options.white_level);
+      const double v =
+          EdgeCrossingInRow(column, 0, 69, 85, options.black_level, options.white_level);
       INFO("edge at u = " << u_edge << ", v = " << v_edge << "; measured " << u << ", " << v);
       CHECK(std::abs(u - u_edge) < 1.0 / (2 * n * n) + 0.005);
       CHECK(std::abs(v - v_edge) < 1.0 / (2 * n * n) + 0.005);
