@@ -152,45 +152,6 @@ bool RefineGrid(const cv::Mat& gray, Grid* grid) {
   return true;
 }
 
-/// How far the points of `px`, read as rows of `width` consecutive points,
-/// are from lying on a grid: the largest change between consecutive steps
-/// along a row, relative to the median step. Small for the true layout; a row
-/// read with the wrong width wraps onto the next row and jumps.
-double RowLayoutCost(const std::vector<cv::Point2f>& px, int width) {
-  std::vector<double> steps;
-  double worst_change = 0;
-  for (size_t row = 0; row + width <= px.size(); row += width) {
-    for (int k = 1; k < width; ++k) {
-      const cv::Point2f step = px[row + k] - px[row + k - 1];
-      steps.push_back(cv::norm(step));
-      if (k > 1)
-        worst_change =
-            std::max<double>(worst_change, cv::norm(step - (px[row + k - 1] - px[row + k - 2])));
-    }
-  }
-  if (steps.empty()) return 0;
-  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
-  const double median = steps[steps.size() / 2];
-  return median > 0 ? worst_change / median : std::numeric_limits<double>::infinity();
-}
-
-/// Puts OpenCV's corners into `grid` with cols points per row. OpenCV may
-/// return a board turned by about 90° as rows points per row (seen with
-/// findChessboardCornersSB); the layout is then read from the geometry and
-/// transposed. Handedness is not assumed here: Detect() checks it.
-void ToGridLayout(std::vector<cv::Point2f> px, Grid* grid) {
-  const int cols = grid->cols, rows = grid->rows;
-  if (cols != rows && RowLayoutCost(px, rows) < RowLayoutCost(px, cols)) {
-    // px[r * rows + c], r < cols, c < rows: point (a, b) = (r, c).
-    grid->px.assign(px.size(), cv::Point2f());
-    for (int a = 0; a < cols; ++a)
-      for (int b = 0; b < rows; ++b)
-        grid->px[static_cast<size_t>(b) * cols + a] = px[static_cast<size_t>(a) * rows + b];
-    return;
-  }
-  grid->px = std::move(px);
-}
-
 /// The full grid of inner corners, refined and verified, or nullopt.
 ///
 /// OpenCV's sector-based detector (findChessboardCornersSB) is used because
@@ -219,7 +180,10 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
     // (centres at integers, SPEC §2), so its centre is at 2k + 0.5.
     const float offset = static_cast<float>(0.5 * (scale - 1));
     for (auto& p : found) p = static_cast<float>(scale) * p + cv::Point2f(offset, offset);
-    ToGridLayout(std::move(found), &grid);
+    // SB lists the corners row by row, cols per row (checked on boards and
+    // images turned by every quarter turn); which way round, and so the
+    // handedness, is left to Detect().
+    grid.px = std::move(found);
     return RefineGrid(gray, &grid) ? Outcome::kFound : Outcome::kRejected;
   };
   auto search_scale = [&](const cv::Mat& image, double scale) {

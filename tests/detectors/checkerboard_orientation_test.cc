@@ -85,16 +85,13 @@ std::vector<std::function<int(int)>> Symmetries(int cols, int rows) {
 
 const double kInPlaneDeg[] = {0.0, 35.0, 100.0, 180.0, 260.0};
 
-}  // namespace
-
-TEST_CASE("Checkerboard ids follow the board through image and board rotations", "[checkerboard]") {
-  // 5 x 4 inner corners: cols + rows odd, so every id is decidable.
+void CheckIdsFollowTheBoard(int cols, int rows, const std::vector<double>& in_plane_degs,
+                            int seed) {
   const Camera camera = MakeTestCamera(640, 480, 640.0, MildDistortion());
-  auto board = std::make_shared<const CheckerboardTarget>(5, 4, 0.04);
+  auto board = std::make_shared<const CheckerboardTarget>(cols, rows, 0.04);
   REQUIRE(board->Warnings().empty());
   const auto detector = MakeDetector(board);
-  int seed = 0;
-  for (double in_plane_deg : kInPlaneDeg) {
+  for (double in_plane_deg : in_plane_degs) {
     // 180° in-plane: the board is seen upside down.
     const Eigen::Isometry3d T_cam_target =
         BoardPose(*board, 0.7, in_plane_deg * M_PI / 180, 0.3, {1, 0.5}, {0.02, -0.01});
@@ -104,13 +101,23 @@ TEST_CASE("Checkerboard ids follow the board through image and board rotations",
     const auto truth = TruePixels(camera, *board, T_cam_target);
     int turn = 0;
     for (const View& view : TurnedViews(image, truth)) {
-      INFO("board turned " << in_plane_deg << " deg in plane, image turned " << 90 * turn++
-                           << " deg");
+      INFO(cols << " x " << rows << " board turned " << in_plane_deg
+                << " deg in plane, image turned " << 90 * turn++ << " deg");
       const auto detection = detector->Detect(view.image);
       REQUIRE(detection);
       CHECK(WorstError(*detection, view.truth, [](int id) { return id; }) < 0.3);
     }
   }
+}
+
+}  // namespace
+
+TEST_CASE("Checkerboard ids follow the board through image and board rotations", "[checkerboard]") {
+  // cols + rows odd, so every id is decidable. 6 x 3: cols a multiple of rows,
+  // where reading OpenCV's point list with the wrong row length looks
+  // plausible row by row.
+  CheckIdsFollowTheBoard(5, 4, {std::begin(kInPlaneDeg), std::end(kInPlaneDeg)}, 0);
+  CheckIdsFollowTheBoard(6, 3, {10.0, 95.0}, 100);
 }
 
 TEST_CASE("Square checkerboard: quarter turns resolved, the 180-degree turn consistent",
