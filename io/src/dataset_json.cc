@@ -10,7 +10,9 @@
 #include "handeye/core/error.h"
 #include "handeye/detectors/registry.h"
 #include "handeye/io/atomic_file.h"
+#include "handeye/io/intrinsics_files.h"
 #include "handeye/io/json_util.h"
+#include "handeye/io/pose_formats.h"
 
 namespace handeye {
 namespace {
@@ -65,9 +67,46 @@ std::vector<double> ReadDistortion(const JsonReader& r) {
   return coeffs.Numbers();
 }
 
+std::string ResolvePath(const std::string& file, const std::string& relative) {
+  const fs::path p(relative);
+  if (p.is_absolute()) return p.lexically_normal().string();
+  return (fs::path(file).parent_path() / p).lexically_normal().string();
+}
+
+// `intrinsics_file` (io/intrinsics_files.h): {"path", "format", "camera" for kalibr}.
+FileIntrinsics ReadCameraIntrinsicsFile(const JsonReader& r) {
+  r.ExpectObject(
+      "{\"path\": \"...\", \"format\": \"opencv\" | \"ros\" | \"kalibr\"} (kalibr also "
+      "\"camera\": \"cam0\")");
+  r.RejectUnknownKeys({"path", "format", "camera"});
+  const std::string path = ResolvePath(r.file(), r.Key("path").NonEmptyString("the intrinsics file's path"));
+  const JsonReader format_json = r.Key("format");
+  const std::string format_name = format_json.NonEmptyString("\"opencv\", \"ros\" or \"kalibr\"");
+  const auto format = ParseIntrinsicsFileFormat(format_name);
+  if (!format)
+    throw format_json.Error("unknown intrinsics file format '" + format_name +
+                            "'; expected \"opencv\" (FileStorage), \"ros\" (camera_info) or \"kalibr\" "
+                            "(camchain)");
+  const JsonReader camera_json = r.Key("camera");
+  std::string camera;
+  if (*format == IntrinsicsFileFormat::kKalibr) {
+    camera = camera_json.NonEmptyString("the camera's name in the camchain (e.g. \"cam0\")");
+  } else if (camera_json.present()) {
+    throw camera_json.Error("\"camera\" picks a camera of a Kalibr camchain; a " + format_name +
+                            " file holds one camera");
+  }
+  try {
+    return ReadIntrinsicsFile(path, *format, camera);
+  } catch (const InputError& e) {
+    // Say where the file was referenced from, so a wrong path is found fast.
+    throw InputError(e.file(), e.json_path(),
+                     e.expected() + " (intrinsics_file of " + r.file() + " at " + r.path() + ")");
+  }
+}
+
 Camera ReadCamera(const JsonReader& r) {
-  r.ExpectObject("a camera object with name, image_size, intrinsics and distortion");
-  r.RejectUnknownKeys({"name", "image_size", "intrinsics", "distortion"});
+  r.ExpectObject("a camera object with name, image_size, and intrinsics and distortion or intrinsics_file");
+  r.RejectUnknownKeys({"name", "image_size", "intrinsics", "distortion", "intrinsics_file"});
   const JsonReader name_json = r.Key("name");
   const std::string name = name_json.NonEmptyString("a camera name");
   if (name.find('/') != std::string::npos)
@@ -75,20 +114,51 @@ Camera ReadCamera(const JsonReader& r) {
         "expected a camera name without '/' (it separates the names of a "
         "camera pair), got \"" +
         name + "\"");
+  const JsonReader file_json = r.Key("intrinsics_file");
+  std::optional<FileIntrinsics> from_file;
+  if (file_json.present()) {
+    for (const char* key : {"intrinsics", "distortion"})
+      if (r.Has(key))
+        throw r.Key(key).Error(std::string("give either intrinsics and distortion, or intrinsics_file; found both ") +
+                               key + " and intrinsics_file");
+    from_file = ReadCameraIntrinsicsFile(file_json);
+  }
   const JsonReader size = r.Key("image_size");
   const std::string size_expected = "[width, height] in pixels";
-  if (size.ArraySize(size_expected) != 2)
-    throw size.Error("expected " + size_expected + ", two positive integers");
-  const int width = size.At(0).Int(1, 1 << 20);
-  const int height = size.At(1).Int(1, 1 << 20);
-  const JsonReader intrinsics = r.Key("intrinsics");
-  intrinsics.ExpectObject("{\"fx\", \"fy\", \"cx\", \"cy\"} in pixels");
-  intrinsics.RejectUnknownKeys({"fx", "fy", "cx", "cy"});
-  const double fx = intrinsics.Key("fx").Positive();
-  const double fy = intrinsics.Key("fy").Positive();
-  const double cx = intrinsics.Key("cx").Number();
-  const double cy = intrinsics.Key("cy").Number();
-  const std::vector<double> distortion = ReadDistortion(r.Key("distortion"));
+  int width = 0, height = 0;
+  if (size.present() || !from_file || !from_file->image_size) {
+    if (size.ArraySize(size_expected) != 2)
+      throw size.Error("expected " + size_expected + ", two positive integers");
+    width = size.At(0).Int(1, 1 << 20);
+    height = size.At(1).Int(1, 1 << 20);
+  }
+  if (from_file && from_file->image_size) {
+    const auto [file_width, file_height] = *from_file->image_size;
+    if (size.present() && (file_width != width || file_height != height))
+      throw size.Error("image_size [" + std::to_string(width) + ", " + std::to_string(height) +
+                       "] differs from the intrinsics file's [" + std::to_string(file_width) + ", " +
+                       std::to_string(file_height) + "]");
+    width = file_width;
+    height = file_height;
+  }
+  double fx, fy, cx, cy;
+  std::vector<double> distortion;
+  if (from_file) {
+    fx = from_file->fx;
+    fy = from_file->fy;
+    cx = from_file->cx;
+    cy = from_file->cy;
+    distortion = from_file->distortion;
+  } else {
+    const JsonReader intrinsics = r.Key("intrinsics");
+    intrinsics.ExpectObject("{\"fx\", \"fy\", \"cx\", \"cy\"} in pixels (or intrinsics_file)");
+    intrinsics.RejectUnknownKeys({"fx", "fy", "cx", "cy"});
+    fx = intrinsics.Key("fx").Positive();
+    fy = intrinsics.Key("fy").Positive();
+    cx = intrinsics.Key("cx").Number();
+    cy = intrinsics.Key("cy").Number();
+    distortion = ReadDistortion(r.Key("distortion"));
+  }
   std::string why;
   const auto camera = Camera::Make(name, width, height, fx, fy, cx, cy, distortion, &why);
   if (!camera) throw r.Error("expected " + why);
@@ -116,12 +186,6 @@ void ReadCameras(const JsonReader& r, Dataset* dataset) {
   }
 }
 
-std::string ResolveImagePath(const std::string& file, const std::string& image) {
-  const fs::path p(image);
-  if (p.is_absolute()) return p.lexically_normal().string();
-  return (fs::path(file).parent_path() / p).lexically_normal().string();
-}
-
 void ReadPoses(const JsonReader& r, bool with_images, const LoadOptions& options,
                Dataset* dataset) {
   const std::size_t n = r.ArraySize("an array of robot pose objects");
@@ -142,14 +206,14 @@ void ReadPoses(const JsonReader& r, bool with_images, const LoadOptions& options
     const auto [it, inserted] = path_of_id.emplace(pose.id, entry.path());
     if (!inserted)
       throw id.Error("duplicate pose id '" + pose.id + "' (also at " + it->second + ")");
-    pose.T_base_ee = entry.Key("T_base_ee").Rigid(options.reorthonormalise);
+    pose.T_base_ee = ReadPose(entry.Key("T_base_ee"), options.reorthonormalise);
     if (with_images) {
       for (const auto& [camera, image] :
            entry.Key("images").Members("an object {camera name: image path}")) {
         if (dataset->CameraIndex(camera) < 0)
           throw image.Error("unknown camera '" + camera +
                             "'; the cameras are: " + CameraList(*dataset));
-        pose.images[camera] = ResolveImagePath(r.file(), image.NonEmptyString("an image path"));
+        pose.images[camera] = ResolvePath(r.file(), image.NonEmptyString("an image path"));
       }
     }
     dataset->poses.push_back(std::move(pose));
@@ -355,6 +419,11 @@ OrderedJson PixelsJson(const std::vector<Eigen::Vector2d>& points) {
 Dataset LoadDataset(const std::string& path, const LoadOptions& options,
                     std::vector<std::string>* warnings) {
   const nlohmann::json doc = ReadJsonFile(path);
+  return DatasetFromJson(doc, path, options, warnings);
+}
+
+Dataset DatasetFromJson(const nlohmann::json& doc, const std::string& path, const LoadOptions& options,
+                        std::vector<std::string>* warnings) {
   const JsonReader root(&doc, path);
   root.ExpectObject(std::string("a ") + kDatasetFormat + " or " + kObservationsFormat + " object");
   const JsonReader format_json = root.Key("format");

@@ -6,6 +6,7 @@
 /// file, the JSON path and what was expected; it never fills in a silent
 /// default. Writers are atomic (io/atomic_file.h).
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,12 @@ struct LoadOptions {
 /// an ambiguous checkerboard) are appended to `warnings` when given.
 Dataset LoadDataset(const std::string& path, const LoadOptions& options = {},
                     std::vector<std::string>* warnings = nullptr);
+
+/// The same for a document already parsed, e.g. assembled in memory. `path`
+/// names it in error messages and anchors relative paths (images, intrinsics
+/// files); it need not exist.
+Dataset DatasetFromJson(const nlohmann::json& document, const std::string& path,
+                        const LoadOptions& options = {}, std::vector<std::string>* warnings = nullptr);
 
 /// Writes `handeye-dataset/1`; image paths are written relative to the file's folder.
 void SaveDataset(const Dataset& dataset, const std::string& path);

@@ -1,0 +1,149 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// `handeye import-poses POSES.csv --template TEMPLATE.json -o DATASET.json`:
+// makes a handeye-dataset/1 from a robot pose list (`id,x,y,z,qx,qy,qz,qw`,
+// io/pose_formats.h) and a template that holds everything else (setup,
+// target, cameras), with image paths built from the pose ids.
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "handeye/core/error.h"
+#include "handeye/io/atomic_file.h"
+#include "handeye/io/dataset_json.h"
+#include "handeye/io/json_util.h"
+#include "handeye/io/pose_formats.h"
+
+namespace handeye::tools {
+namespace {
+
+using OrderedJson = nlohmann::ordered_json;
+
+struct ImportPosesArgs {
+  std::string csv;
+  std::string template_path;
+  std::string output;
+  std::string unit = "m";
+  std::vector<std::string> images;  // CAM=PATTERN
+  bool reorthonormalise = false;
+};
+
+constexpr char kIdPlaceholder[] = "{id}";
+
+std::string Replace(std::string text, const std::string& what, const std::string& with) {
+  for (std::size_t pos = text.find(what); pos != std::string::npos; pos = text.find(what, pos + with.size()))
+    text.replace(pos, what.size(), with);
+  return text;
+}
+
+// The template in its own key order (ReadJsonFile has checked it already:
+// well-formed, no duplicate keys), so the output reads like the template.
+OrderedJson ReadOrdered(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return OrderedJson::parse(std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()));
+}
+
+void RunImportPoses(const ImportPosesArgs& args) {
+  if (args.unit != "m" && args.unit != "mm")
+    throw InputError("", "", "--translation-unit: expected m or mm, got '" + args.unit + "'");
+  const std::vector<PoseRow> rows =
+      ReadPoseCsv(args.csv, args.unit == "mm" ? LengthUnit::kMillimetre : LengthUnit::kMetre, args.reorthonormalise);
+
+  const nlohmann::json checked = ReadJsonFile(args.template_path);
+  const JsonReader root(&checked, args.template_path);
+  root.ExpectObject("a handeye-dataset/1 object without poses (the template)");
+  const JsonReader format = root.Key("format");
+  if (format.NonEmptyString("\"handeye-dataset/1\"") != "handeye-dataset/1")
+    throw format.Error("expected \"handeye-dataset/1\" (a template for a dataset)");
+  if (root.Has("poses"))
+    throw root.Key("poses").Error("the template must not list poses; import-poses writes them from " + args.csv);
+  // The template's own problems are reported against the template: check it
+  // with one stand-in pose before adding the real ones.
+  nlohmann::json probe = checked;
+  nlohmann::json stand_in = nlohmann::json::object();
+  stand_in["id"] = rows.front().id;
+  stand_in["T_base_ee"] = nlohmann::json::parse(JsonFromTransform(Eigen::Isometry3d::Identity()).dump());
+  stand_in["images"] = nlohmann::json::object();
+  probe["poses"] = nlohmann::json::array({stand_in});
+  std::vector<std::string> warnings;
+  const Dataset dataset = DatasetFromJson(probe, args.template_path, {}, &warnings);
+  PrintWarnings(warnings);
+
+  std::map<std::string, std::string> pattern_of_camera;
+  for (const std::string& spec : args.images) {
+    const std::size_t eq = spec.find('=');
+    const std::string camera = spec.substr(0, eq);
+    const std::string pattern = eq == std::string::npos ? "" : spec.substr(eq + 1);
+    if (eq == std::string::npos || camera.empty() || pattern.find(kIdPlaceholder) == std::string::npos)
+      throw InputError("", "", "--images: expected CAMERA=PATTERN with {id} in the pattern (e.g. cam0=images/cam0/{id}.png), got '" +
+                                   spec + "'");
+    if (dataset.CameraIndex(camera) < 0) {
+      std::string names;
+      for (const auto& c : dataset.cameras) names += (names.empty() ? "" : ", ") + c.name;
+      throw InputError("", "", "--images: unknown camera '" + camera + "'; the template's cameras are: " + names);
+    }
+    if (!pattern_of_camera.emplace(camera, pattern).second)
+      throw InputError("", "", "--images: camera '" + camera + "' given twice");
+  }
+
+  OrderedJson out = ReadOrdered(args.template_path);
+  OrderedJson poses = OrderedJson::array();
+  for (const PoseRow& row : rows) {
+    OrderedJson pose = OrderedJson::object();
+    pose["id"] = row.id;
+    pose["T_base_ee"] = JsonFromTransform(row.T_base_ee);
+    OrderedJson images = OrderedJson::object();
+    // Camera order, as SaveDataset writes them.
+    for (const auto& camera : dataset.cameras) {
+      const auto it = pattern_of_camera.find(camera.name);
+      if (it != pattern_of_camera.end()) images[camera.name] = Replace(it->second, kIdPlaceholder, row.id);
+    }
+    pose["images"] = images;
+    poses.push_back(pose);
+  }
+  out["poses"] = poses;
+  // What is written must load: check the whole document where it will live
+  // (image paths are relative to the output's folder).
+  DatasetFromJson(nlohmann::json::parse(out.dump()), args.output);
+  WriteFileAtomically(args.output, DumpJson(out));
+
+  std::size_t missing = 0;
+  const std::filesystem::path folder = std::filesystem::path(args.output).parent_path();
+  for (const auto& pose : poses)
+    for (const auto& [camera, image] : pose["images"].items()) {
+      std::error_code ec;
+      if (!std::filesystem::exists(folder / image.get<std::string>(), ec)) ++missing;
+    }
+  std::cerr << "wrote " << args.output << ": " << rows.size() << " poses from " << args.csv << ", images for "
+            << pattern_of_camera.size() << " of " << dataset.cameras.size() << " cameras\n";
+  if (missing > 0)
+    std::cerr << "warning: " << missing << " image paths do not exist (yet); detect will report each one\n";
+}
+
+}  // namespace
+
+void RegisterImportPoses(CLI::App& app) {
+  auto args = std::make_shared<ImportPosesArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "import-poses", "make a dataset from a robot pose list (CSV id,x,y,z,qx,qy,qz,qw) and a template");
+  cmd->add_option("POSES", args->csv, "CSV with header id,x,y,z,qx,qy,qz,qw (T_base_ee per pose)")->required();
+  cmd->add_option("--template", args->template_path,
+                  "handeye-dataset/1 file without poses: format, setup, target and cameras")
+      ->required();
+  cmd->add_option("-o,--output", args->output, "dataset file to write (handeye-dataset/1)")->required();
+  cmd->add_option("--translation-unit", args->unit, "unit of x, y, z: m (default) or mm");
+  cmd->add_option("--images", args->images,
+                  "CAMERA=PATTERN, image path per pose with {id} replaced by the pose id, relative to the "
+                  "output's folder (repeat per camera)");
+  cmd->add_flag("--reorthonormalise", args->reorthonormalise,
+                "normalise quaternions that are not unit instead of rejecting them");
+  cmd->callback([args]() { RunImportPoses(*args); });
+}
+
+HANDEYE_SUBCOMMAND(80, RegisterImportPoses);
+
+}  // namespace handeye::tools
