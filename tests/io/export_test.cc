@@ -1,0 +1,301 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// `handeye export` formats (io/export.h): each output is parsed back the way
+// its consumer reads it and every transform compared with the result to
+// 1e-9, including a camera whose body frame is at gimbal lock for URDF's rpy.
+#include "handeye/io/export.h"
+
+#include <catch2/catch.hpp>
+#include <map>
+#include <opencv2/core.hpp>
+#include <random>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "handeye/core/error.h"
+#include "handeye/core/transform.h"
+#include "handeye/io/yaml_subset.h"
+
+namespace handeye {
+namespace {
+
+using Catch::Matchers::Contains;
+
+constexpr double kParseBackTolerance = 1e-9;
+
+Eigen::Matrix3d FromRpy(double roll, double pitch, double yaw) {
+  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+Eigen::Isometry3d FromRotation(const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = R;
+  T.translation() = t;
+  return T;
+}
+
+// cam0: a general pose; cam1: its body frame pitched by exactly 90° (URDF rpy
+// at gimbal lock); cam2: pitched 1e-7 rad short of it; cam3: not calibrated.
+CalibrationResult SampleResult(Setup setup) {
+  CalibrationResult r;
+  r.setup = setup;
+  r.method = Method::kJoint;
+  auto camera = [](const std::string& name, const Eigen::Isometry3d& T_parent_link) {
+    CameraResult c;
+    c.name = name;
+    c.calibrated = true;
+    c.T_cam = T_parent_link * OpticalInLink();  // T_parent_optical
+    return c;
+  };
+  r.cameras.push_back(camera("cam0", MakeTransformFromRotationVector({0.3, -2.2, 0.1}, {1.9, -1.8, 1.9})));
+  r.cameras.push_back(camera("cam1", FromRotation(FromRpy(0.3, M_PI / 2, -1.1), {-1.234567890123, 0.5, 2.75})));
+  r.cameras.push_back(camera("cam2", FromRotation(FromRpy(-2.0, M_PI / 2 - 1e-7, 0.7), {0.1, 1e-12, -3.0})));
+  CameraResult skipped;
+  skipped.name = "cam3";
+  r.cameras.push_back(skipped);
+  r.T_target = MakeTransformFromRotationVector({0.1, 0.2, 0.3}, {0.01, 0.02, 0.1});
+  return r;
+}
+
+struct Parsed {
+  std::string parent;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+};
+using ParsedTransforms = std::map<std::string, Parsed>;  // by child frame
+
+double Parse(const std::string& text) {
+  std::size_t used = 0;
+  const double x = std::stod(text, &used);
+  REQUIRE(used == text.size());
+  return x;
+}
+
+Eigen::Isometry3d FromQuaternion(double x, double y, double z, double qx, double qy, double qz, double qw) {
+  const Eigen::Quaterniond q(qw, qx, qy, qz);
+  REQUIRE(std::abs(q.norm() - 1) < 1e-15);
+  REQUIRE(qw >= 0);
+  return FromRotation(q.toRotationMatrix(), {x, y, z});
+}
+
+ParsedTransforms ParseLaunch(const std::string& text) {
+  ParsedTransforms out;
+  const std::regex node(R"(executable='static_transform_publisher',[\s\S]*?arguments=\[([^\]]*)\])");
+  const std::regex token(R"('([^']*)')");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), node); it != std::sregex_iterator(); ++it) {
+    const std::string args = (*it)[1];
+    std::vector<std::string> tokens;
+    for (auto t = std::sregex_iterator(args.begin(), args.end(), token); t != std::sregex_iterator(); ++t)
+      tokens.push_back((*t)[1]);
+    REQUIRE(tokens.size() == 18);
+    std::map<std::string, std::string> value;
+    for (std::size_t i = 0; i + 1 < tokens.size(); i += 2) value[tokens[i]] = tokens[i + 1];
+    for (const char* flag : {"--x", "--y", "--z", "--qx", "--qy", "--qz", "--qw", "--frame-id", "--child-frame-id"})
+      REQUIRE(value.count(flag));
+    out[value["--child-frame-id"]] = {
+        value["--frame-id"], FromQuaternion(Parse(value["--x"]), Parse(value["--y"]), Parse(value["--z"]),
+                                            Parse(value["--qx"]), Parse(value["--qy"]), Parse(value["--qz"]),
+                                            Parse(value["--qw"]))};
+  }
+  return out;
+}
+
+std::vector<double> Numbers(const std::string& text) {
+  std::vector<double> out;
+  std::istringstream in(text);
+  std::string word;
+  while (in >> word) out.push_back(Parse(word));
+  return out;
+}
+
+ParsedTransforms ParseUrdf(const std::string& text) {
+  // XML forbids "--" inside a comment; a URDF parser would reject the file.
+  const std::regex comment(R"(<!--([\s\S]*?)-->)");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), comment); it != std::sregex_iterator(); ++it)
+    CHECK((*it)[1].str().find("--") == std::string::npos);
+  ParsedTransforms out;
+  const std::regex joint(
+      R"re(<joint name="([^"]+)" type="fixed">\s*<parent link="([^"]+)"/>\s*<child link="([^"]+)"/>\s*<origin xyz="([^"]+)" rpy="([^"]+)"/>\s*</joint>)re");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), joint); it != std::sregex_iterator(); ++it) {
+    const std::vector<double> xyz = Numbers((*it)[4]);
+    const std::vector<double> rpy = Numbers((*it)[5]);
+    REQUIRE(xyz.size() == 3);
+    REQUIRE(rpy.size() == 3);
+    out[(*it)[3]] = {(*it)[2], FromRotation(FromRpy(rpy[0], rpy[1], rpy[2]), {xyz[0], xyz[1], xyz[2]})};
+  }
+  return out;
+}
+
+ParsedTransforms ParseTfStatic(const std::string& text) {
+  const nlohmann::json doc = ParseYamlSubset(text, "tf_static.yaml");
+  ParsedTransforms out;
+  for (const auto& tf : doc.at("transforms")) {
+    const auto& t = tf.at("transform").at("translation");
+    const auto& q = tf.at("transform").at("rotation");
+    CHECK(tf.at("header").at("stamp").at("sec") == 0);
+    out[tf.at("child_frame_id").get<std::string>()] = {
+        tf.at("header").at("frame_id").get<std::string>(),
+        FromQuaternion(t.at("x"), t.at("y"), t.at("z"), q.at("x"), q.at("y"), q.at("z"), q.at("w"))};
+  }
+  return out;
+}
+
+Eigen::Isometry3d ReadMatrix4(const cv::FileNode& node) {
+  cv::Mat M;
+  node >> M;
+  REQUIRE(M.rows == 4);
+  REQUIRE(M.cols == 4);
+  REQUIRE(M.type() == CV_64F);
+  Eigen::Matrix4d E;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) E(r, c) = M.at<double>(r, c);
+  CHECK(E.row(3) == Eigen::RowVector4d(0, 0, 0, 1));
+  Eigen::Isometry3d T;
+  T.matrix() = E;
+  return T;
+}
+
+void CheckClose(const Eigen::Isometry3d& got, const Eigen::Isometry3d& expected, const std::string& what) {
+  INFO(what << "\ngot\n" << got.matrix() << "\nexpected\n" << expected.matrix());
+  CHECK((got.matrix() - expected.matrix()).cwiseAbs().maxCoeff() <= kParseBackTolerance);
+}
+
+// The parsed transforms are exactly the result's chain.
+void CheckTransforms(const ParsedTransforms& parsed, const CalibrationResult& result, const ExportOptions& frames) {
+  const bool to_hand = result.setup == Setup::kEyeToHand;
+  const std::string parent = to_hand ? frames.base_frame : frames.ee_frame;
+  CHECK(parsed.size() == 7);  // 3 calibrated cameras × 2 + the target
+  for (const CameraResult& camera : result.cameras) {
+    const std::string link = camera.name + "_link", optical = camera.name + "_optical_frame";
+    if (!camera.calibrated) {
+      CHECK(parsed.count(link) == 0);
+      continue;
+    }
+    REQUIRE(parsed.count(link));
+    REQUIRE(parsed.count(optical));
+    CHECK(parsed.at(link).parent == parent);
+    CHECK(parsed.at(optical).parent == link);
+    CheckClose(parsed.at(link).T * parsed.at(optical).T, camera.T_cam, parent + " -> " + optical);
+    CheckClose(parsed.at(optical).T, OpticalInLink(), link + " -> " + optical);
+  }
+  REQUIRE(parsed.count(frames.target_frame));
+  CHECK(parsed.at(frames.target_frame).parent == (to_hand ? frames.ee_frame : frames.base_frame));
+  CheckClose(parsed.at(frames.target_frame).T, result.T_target, "target");
+}
+
+TEST_CASE("The optical frame in the camera link: REP-103's fixed rotation", "[io][export]") {
+  const Eigen::Isometry3d T = OpticalInLink();
+  // Optical z (forward) is link x, optical x (right) is link -y, optical y (down) is link -z.
+  CHECK(T.rotation() * Eigen::Vector3d::UnitZ() == Eigen::Vector3d::UnitX());
+  CHECK(T.rotation() * Eigen::Vector3d::UnitX() == -Eigen::Vector3d::UnitY());
+  CHECK(T.rotation() * Eigen::Vector3d::UnitY() == -Eigen::Vector3d::UnitZ());
+  CHECK(T.translation() == Eigen::Vector3d::Zero());
+  const Eigen::Vector3d rpy = RollPitchYaw(T.rotation());
+  CHECK(rpy.isApprox(Eigen::Vector3d(-M_PI / 2, 0, -M_PI / 2), 1e-15));
+  const Eigen::Quaterniond q(T.rotation());
+  const double sign = q.w() < 0 ? -1 : 1;
+  CHECK((sign * q.coeffs() - Eigen::Vector4d(-0.5, 0.5, -0.5, 0.5)).norm() < 1e-15);
+}
+
+TEST_CASE("Roll, pitch, yaw rebuild the rotation, also at and near gimbal lock", "[io][export]") {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+  double worst = 0;
+  auto check = [&](const Eigen::Matrix3d& R) {
+    const Eigen::Vector3d rpy = RollPitchYaw(R);
+    CHECK(std::abs(rpy.y()) <= M_PI / 2);
+    worst = std::max(worst, (FromRpy(rpy.x(), rpy.y(), rpy.z()) - R).cwiseAbs().maxCoeff());
+  };
+  for (int i = 0; i < 1000; ++i) check(FromRpy(angle(rng), angle(rng) / 2, angle(rng)));
+  for (double pitch : {M_PI / 2, -M_PI / 2})
+    for (double off : {0.0, 1e-4, 1e-7, 1e-9, 1e-12, 1e-15})
+      for (int i = 0; i < 20; ++i) check(FromRpy(angle(rng), pitch - (pitch > 0 ? off : -off), angle(rng)));
+  // A few units of rounding; the parse-back tests need 1e-9.
+  CHECK(worst < 5e-15);
+}
+
+TEST_CASE("Every export format parses back to the result's transforms to 1e-9", "[io][export]") {
+  ExportOptions frames;
+  for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
+    INFO(SetupName(setup));
+    const CalibrationResult result = SampleResult(setup);
+    std::vector<std::string> warnings;
+    const std::string launch = FormatExport(result, ExportFormat::kRos2Launch, frames, "result.json", &warnings);
+    REQUIRE(warnings.size() == 1);
+    CHECK_THAT(warnings[0], Contains("camera 'cam3' was not calibrated; not exported"));
+    CHECK_THAT(launch, Contains("from launch_ros.actions import Node"));
+    CheckTransforms(ParseLaunch(launch), result, frames);
+
+    const std::string urdf = FormatExport(result, ExportFormat::kUrdf, frames, "result.json");
+    CHECK_THAT(urdf, Contains("<robot name=\"handeye_calibration\">"));
+    CheckTransforms(ParseUrdf(urdf), result, frames);
+    // Outside comments the URDF is one tree: every link but the root is the
+    // child of one joint whose parent is a link of the file. The target's
+    // joint, whose parent is elsewhere in the robot, is only in a comment.
+    const std::string live = std::regex_replace(urdf, std::regex(R"(<!--[\s\S]*?-->)"), "");
+    const ParsedTransforms joints = ParseUrdf(live);
+    CHECK(joints.size() == 6);
+    CHECK(joints.count(frames.target_frame) == 0);
+    std::set<std::string> links;
+    const std::regex link(R"re(<link name="([^"]+)"/>)re");
+    for (auto it = std::sregex_iterator(live.begin(), live.end(), link); it != std::sregex_iterator(); ++it)
+      links.insert((*it)[1]);
+    const std::string root = setup == Setup::kEyeToHand ? frames.base_frame : frames.ee_frame;
+    CHECK(links.size() == joints.size() + 1);
+    CHECK(links.count(root) == 1);
+    for (const auto& [child, joint] : joints) {
+      CHECK(links.count(child) == 1);
+      CHECK(links.count(joint.parent) == 1);
+    }
+
+    const std::string tf = FormatExport(result, ExportFormat::kTfStaticYaml, frames, "result.json");
+    CheckTransforms(ParseTfStatic(tf), result, frames);
+
+    const std::string yaml = FormatExport(result, ExportFormat::kOpenCvYaml, frames, "result.json");
+    cv::FileStorage fs(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+    const std::string cam_key = setup == Setup::kEyeToHand ? "T_base_cam" : "T_ee_cam";
+    const cv::FileNode cameras = fs["cameras"];
+    REQUIRE(cameras.size() == 3);
+    for (int k = 0; k < 3; ++k) {
+      const cv::FileNode camera = cameras[k];
+      CHECK(static_cast<std::string>(camera["name"]) == result.cameras[k].name);
+      CHECK(static_cast<std::string>(camera["frame_id"]) == result.cameras[k].name + "_optical_frame");
+      // FileStorage prints 17 significant digits: exact.
+      CHECK(ReadMatrix4(camera[cam_key]).matrix() == result.cameras[k].T_cam.matrix());
+      CheckClose(ReadMatrix4(camera[cam_key + "_link"]) * OpticalInLink(), result.cameras[k].T_cam, "link");
+    }
+    CHECK(ReadMatrix4(fs[setup == Setup::kEyeToHand ? "T_ee_target" : "T_base_target"]).matrix() ==
+          result.T_target.matrix());
+  }
+}
+
+TEST_CASE("Frame names: options are checked, camera names must make frame names", "[io][export]") {
+  ExportOptions frames;
+  std::string why;
+  CHECK(frames.Check(&why));
+  frames.base_frame = "robot/base_link";
+  CHECK(frames.Check(&why));
+  frames.base_frame = "base link";
+  CHECK_FALSE(frames.Check(&why));
+  CHECK_THAT(why, Contains("base frame 'base link' is not a frame name"));
+  frames.base_frame = "tool0";
+  CHECK_FALSE(frames.Check(&why));
+  CHECK_THAT(why, Contains("different names"));
+
+  CalibrationResult result = SampleResult(Setup::kEyeToHand);
+  result.cameras[1].name = "2nd camera";
+  try {
+    FormatExport(result, ExportFormat::kUrdf, ExportOptions{}, "r.json");
+    FAIL("a camera name with a blank was exported");
+  } catch (const InputError& e) {
+    CHECK(e.json_path() == "/cameras/2nd camera");
+    CHECK_THAT(e.what(), Contains("cannot prefix a ROS frame name"));
+  }
+  for (auto& camera : result.cameras) camera.calibrated = false;
+  CHECK_THROWS_WITH(FormatExport(result, ExportFormat::kUrdf, ExportOptions{}, "r.json"),
+                    Contains("no calibrated camera; nothing to export"));
+}
+
+}  // namespace
+}  // namespace handeye

@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// `handeye export`: each format is written for a result file, frame names
+// are options, and bad input exits 2 naming what is wrong. The formats' exact
+// content is tested in tests/io/export_test.cc.
+#include <catch2/catch.hpp>
+#include <fstream>
+#include <sstream>
+
+#include "handeye/core/transform.h"
+#include "handeye/io/result_json.h"
+#include "handeye/io/yaml_subset.h"
+#include "support/test_support.h"
+
+using namespace handeye;
+using Catch::Matchers::Contains;
+
+namespace {
+
+std::string WriteResult(const std::string& dir) {
+  CalibrationResult r;
+  r.setup = Setup::kEyeToHand;
+  CameraResult cam;
+  cam.name = "cam0";
+  cam.calibrated = true;
+  cam.T_cam = MakeTransformFromRotationVector({2.0, -0.4, 0.3}, {-1.2, 1.9, 1.15});
+  CameraResult blind;
+  blind.name = "cam1";
+  r.cameras = {cam, blind};
+  r.T_target = MakeTransformFromRotationVector({0.1, 0.2, 0.3}, {0.01, 0.02, 0.1});
+  SaveResult(r, dir + "/result.json");
+  return dir + "/result.json";
+}
+
+std::string Slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+TEST_CASE("export writes every format, with the frame names asked for", "[cli][export]") {
+  const std::string dir = test::TempDir("export_cli");
+  const std::string result = WriteResult(dir);
+  std::string out;
+  for (const std::string format : {"ros2-launch", "urdf", "tf-static-yaml", "opencv-yaml"}) {
+    INFO(format);
+    REQUIRE(test::RunHandeye("export " + result + " --to " + format + " -o " + dir + "/out." + format, &out) == 0);
+    CHECK_THAT(out, Contains("warning: camera 'cam1' was not calibrated; not exported"));
+    CHECK_THAT(Slurp(dir + "/out." + format), Contains("cam0_optical_frame"));
+  }
+  REQUIRE(test::RunHandeye("export " + result + " --to tf-static-yaml --base-frame world --ee-frame flange -o " +
+                               dir + "/tf.yaml",
+                           &out) == 0);
+  const nlohmann::json tf = ReadYamlSubsetFile(dir + "/tf.yaml");
+  REQUIRE(tf["transforms"].size() == 3);
+  CHECK(tf["transforms"][0]["header"]["frame_id"] == "world");
+  CHECK(tf["transforms"][2]["header"]["frame_id"] == "flange");
+}
+
+TEST_CASE("export exits 2 on bad input", "[cli][export]") {
+  const std::string dir = test::TempDir("export_cli_errors");
+  const std::string result = WriteResult(dir);
+  std::string out;
+  CHECK(test::RunHandeye("export " + result + " --to sdf -o " + dir + "/x", &out) == 2);
+  CHECK_THAT(out, Contains("--to: expected one of ros2-launch, urdf, tf-static-yaml, opencv-yaml"));
+  CHECK(test::RunHandeye("export " + result + " --to urdf --base-frame 'my base' -o " + dir + "/x", &out) == 2);
+  CHECK_THAT(out, Contains("base frame 'my base' is not a frame name"));
+  CHECK(test::RunHandeye("export " + dir + "/missing.json --to urdf -o " + dir + "/x", &out) == 2);
+  CHECK_THAT(out, Contains(dir + "/missing.json: file does not exist"));
+  CHECK(test::RunHandeye("export " + result + " --to urdf -o " + dir + "/no/such/folder/x.urdf", &out) == 2);
+  CHECK_THAT(out, Contains("no/such/folder"));
+}
