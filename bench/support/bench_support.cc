@@ -89,9 +89,9 @@ CalibrationResult TruthAsResult(const SyntheticScene& scene) {
   return at;
 }
 
-double DetectionNoisePx(const SyntheticScene& scene) {
-  double sum = 0;
-  size_t n = 0;
+DetectionError MeasureDetectionError(const SyntheticScene& scene) {
+  std::vector<double> coordinates;  // signed per-coordinate errors
+  std::vector<double> distances;
   for (const Observation& obs : scene.dataset.observations) {
     const int j = scene.dataset.PoseIndex(obs.pose_id);
     const auto& truth = scene.truth.poses[j].points_px;
@@ -100,11 +100,22 @@ double DetectionNoisePx(const SyntheticScene& scene) {
     for (size_t i = 0; i < obs.ids.size(); ++i)
       for (size_t t = 0; t < it->second.ids.size(); ++t)
         if (it->second.ids[t] == obs.ids[i]) {
-          sum += (obs.points_px[i] - it->second.points_px[t]).squaredNorm();
-          n += 2;
+          const Eigen::Vector2d d = obs.points_px[i] - it->second.points_px[t];
+          coordinates.push_back(d.x());
+          coordinates.push_back(d.y());
+          distances.push_back(d.norm());
         }
   }
-  return n ? std::sqrt(sum / n) : 0.0;
+  DetectionError out;
+  if (coordinates.empty()) return out;
+  // Median absolute deviation: a few gross errors must not set the noise level.
+  std::vector<double> abs_dev;
+  for (double c : coordinates) abs_dev.push_back(std::abs(c));
+  out.sigma_px = 1.4826 * Median(abs_dev);
+  for (double d : distances) out.gross += d > 1.0 ? 1 : 0;
+  out.points = static_cast<int>(distances.size());
+  out.max_px = *std::max_element(distances.begin(), distances.end());
+  return out;
 }
 
 std::vector<std::string> SplitList(const std::string& text) {

@@ -54,9 +54,14 @@ std::string Format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
 /// Cramér–Rao covariance at the true values).
 CalibrationResult TruthAsResult(const SyntheticScene& scene);
 
-/// RMS (per coordinate, pixels) of detected points against the true pixels
-/// of the same ids; the measured detection noise of a rendered scene.
-double DetectionNoisePx(const SyntheticScene& scene);
+/// Detected points against the true pixels of the same ids.
+struct DetectionError {
+  double sigma_px = 0;  ///< robust σ per coordinate (1.4826 · median |error|)
+  double max_px = 0;    ///< largest point error
+  int gross = 0;        ///< points off by more than 1 px
+  int points = 0;
+};
+DetectionError MeasureDetectionError(const SyntheticScene& scene);
 
 /// Splits "a,b,c".
 std::vector<std::string> SplitList(const std::string& text);

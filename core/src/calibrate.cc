@@ -3,6 +3,7 @@
 // fills the result with per-view residuals and the paper's metrics.
 #include <chrono>
 #include <cmath>
+#include <set>
 #include <sstream>
 
 #include "calibration_internal.h"
@@ -199,26 +200,23 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     est.X = refined.X;
     est.shared_Z = refined.Z[0];
     result.solver = refined.summary;
+    // Poses at which each camera has a used view, to count shared views per pair.
+    std::vector<std::set<int>> poses_seen(dataset.cameras.size());
+    for (const View& view : problem.views)
+      if (view.used) poses_seen[view.camera].insert(view.pose);
     for (const auto& [pair, T_kt] : refined.pairs) {
       if (pair.first > pair.second) continue;  // report each unordered pair once, k < t
       CameraPairResult p;
       p.camera_k = dataset.cameras[pair.first].name;
       p.camera_t = dataset.cameras[pair.second].name;
       p.T_camk_camt = T_kt;
-      for (const auto& at_pose : dataset.poses) {
-        bool k_seen = false, t_seen = false;
-        for (const View& view : problem.views) {
-          if (!view.used || view.observation->pose_id != at_pose.id) continue;
-          k_seen = k_seen || view.camera == pair.first;
-          t_seen = t_seen || view.camera == pair.second;
-        }
-        p.shared_views += (k_seen && t_seen) ? 1 : 0;
-      }
+      for (int pose : poses_seen[pair.first]) p.shared_views += poses_seen[pair.second].count(pose) ? 1 : 0;
       result.camera_pairs.push_back(p);
     }
   } else if (options.method == Method::kPerCamera) {
-    // Each camera on its own: ViSP then the reprojection solve with its own Z.
-    est = PerCameraEstimate(problem, Method::kVisp, &result.warnings);
+    // Each camera on its own: ViSP (on diverse views) then the reprojection
+    // solve with its own Z over all views.
+    est = PerCameraEstimate(internal::WithDiverseViews(problem, 12), Method::kVisp, &result.warnings);
     const internal::Refinement refined = internal::RefinePerCamera(problem, est.X, est.Z, options);
     est.X = refined.X;
     est.Z = refined.Z;

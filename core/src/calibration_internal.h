@@ -60,6 +60,11 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> ClosedFormHandEye
 /// cameras whose own motions are too few for a per-camera solve.
 std::optional<Eigen::Isometry3d> SharedTargetClosedForm(const Problem& problem);
 
+/// The same problem with each camera's used views cut to at most
+/// `max_views` chosen for diverse robot rotations (farthest-point sampling):
+/// closed forms cost far more than linearly in views, and need diversity, not bulk.
+Problem WithDiverseViews(const Problem& problem, size_t max_views);
+
 /// Initial X (per camera, nullopt for cameras without views) and Z for the joint solve.
 struct Initialisation {
   std::vector<std::optional<Eigen::Isometry3d>> X;

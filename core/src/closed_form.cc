@@ -256,7 +256,32 @@ std::optional<Eigen::Isometry3d> SharedTargetClosedForm(const Problem& problem) 
   return W.inverse();
 }
 
-Initialisation InitialiseJoint(const Problem& problem) {
+Problem WithDiverseViews(const Problem& problem, size_t max_views) {
+  Problem out = problem;
+  for (auto& ids : out.camera_views) {
+    if (ids.size() <= max_views) continue;
+    std::vector<int> chosen = {ids.front()};
+    std::vector<double> nearest(ids.size(), std::numeric_limits<double>::infinity());
+    while (chosen.size() < max_views) {
+      const Eigen::Matrix3d last = problem.M[problem.views[chosen.back()].pose].linear();
+      size_t best = 0;
+      for (size_t i = 0; i < ids.size(); ++i) {
+        const Eigen::Matrix3d R = problem.M[problem.views[ids[i]].pose].linear();
+        nearest[i] = std::min(nearest[i], RotationDistance(last, R));
+        if (nearest[i] > nearest[best]) best = i;
+      }
+      chosen.push_back(ids[best]);
+      nearest[best] = 0.0;
+    }
+    ids = chosen;
+  }
+  return out;
+}
+
+Initialisation InitialiseJoint(const Problem& full_problem) {
+  // Closed forms initialise from a dozen diverse views per camera; the
+  // refinement then uses every view.
+  const Problem problem = WithDiverseViews(full_problem, 12);
   const size_t num_cameras = problem.camera_views.size();
   // Candidates for the shared Z: ViSP per camera where a camera has the
   // motions for it, and the linear solve over all cameras.
@@ -279,8 +304,9 @@ Initialisation InitialiseJoint(const Problem& problem) {
   for (const auto& [name, Z] : candidates) {
     Initialisation init;
     init.Z = Z;
-    for (size_t k = 0; k < num_cameras; ++k) init.X.push_back(CameraFromTarget(problem, static_cast<int>(k), Z));
-    const double score = MedianViewRms(problem, init.X, Z);
+    for (size_t k = 0; k < num_cameras; ++k)
+      init.X.push_back(CameraFromTarget(full_problem, static_cast<int>(k), Z));
+    const double score = MedianViewRms(full_problem, init.X, Z);
     if (score < best_score) {
       best_score = score;
       best = init;
