@@ -25,13 +25,16 @@ enum class Method {
   kShah, kLi,  ///< OpenCV calibrateRobotWorldHandEye, per camera
   kVisp,       ///< ViSP vpHandEyeCalibration, per camera
 };
+/// The `--method` name of a method, e.g. "joint".
 const char* MethodName(Method method);
+/// Parses a method name; nullopt if unknown.
 std::optional<Method> ParseMethod(const std::string& name);
 /// Every method name, in the order of the paper's tables.
 std::vector<std::string> MethodNames();
 
+/// How Calibrate() solves. Defaults are the paper's method.
 struct CalibrationOptions {
-  Method method = Method::kJoint;
+  Method method = Method::kJoint;  ///< SPEC §7 `--method`
   /// Scale of the Cauchy loss on every reprojection residual, pixels.
   double cauchy_scale_px = 1.0;
   /// The paper's camera-to-camera terms c_cross (joint method only).
@@ -43,64 +46,73 @@ struct CalibrationOptions {
   /// Threads for Ceres.
   int threads = 1;
 
+  /// False, with the reason in `*why`, when a value is out of its domain
+  /// (non-positive scale, iterations or threads, …). Calibrate() checks them
+  /// too and throws InputError.
   bool Check(std::string* why) const;
 };
 
 /// One view (a camera's image at a robot pose) as the solver saw it.
 struct ViewResult {
-  std::string pose_id;
-  std::string camera;
-  int num_points = 0;
+  std::string pose_id;  ///< RobotPose::id
+  std::string camera;   ///< Camera::name
+  int num_points = 0;   ///< detected target points in the view
   bool used = true;             ///< false: rejected before the solve (PnP check)
   std::string rejected_because; ///< why, when not used
   double rms_px = 0;            ///< reprojection through the calibrated chain
-  double max_px = 0;
+  double max_px = 0;            ///< largest point error of the view, pixels
   /// Down-weighted by the robust loss: RMS above 3 Cauchy scales.
   bool outlier = false;
 };
 
+/// The calibration of one camera.
 struct CameraResult {
-  std::string name;
+  std::string name;  ///< Camera::name
   bool calibrated = false;  ///< false: the camera never saw the target (reported, not fatal)
   /// eye_to_hand: T_base_cam; eye_in_hand: T_ee_cam.
   Eigen::Isometry3d T_cam = Eigen::Isometry3d::Identity();
   /// The camera's own Z for methods that estimate one per camera.
   std::optional<Eigen::Isometry3d> own_T_target;
-  double rms_px = 0;
+  double rms_px = 0;       ///< reprojection RMS over the camera's used views, pixels
   int views = 0;           ///< views used
   int views_rejected = 0;
 };
 
 /// T_camk_camt of a pair of cameras that saw the target at the same pose.
 struct CameraPairResult {
-  std::string camera_k, camera_t;
+  std::string camera_k, camera_t;  ///< camera names
+  /// Pose of camera t's optical frame in camera k's; metres.
   Eigen::Isometry3d T_camk_camt = Eigen::Isometry3d::Identity();
-  int shared_views = 0;
+  int shared_views = 0;  ///< poses at which both saw the target
 };
 
+/// Summary errors of a calibration.
 struct CalibrationMetrics {
   double rms_px = 0;               ///< all points of all used views
   double axzb_translation_mm = 0;  ///< paper eq. (real_metrics), mean over cameras and views
   double axzb_rotation_deg = 0;
 };
 
+/// How the solver ran.
 struct SolverSummary {
-  double seconds = 0;
-  int iterations = 0;
+  double seconds = 0;        ///< wall time of the solve
+  int iterations = 0;        ///< Ceres iterations (0 for closed-form methods)
   bool converged = false;
-  std::string termination;
+  std::string termination;   ///< Ceres' termination type, or the method's status
 };
 
+/// Everything a calibration produced. A plain value; frames and units as in
+/// SPEC §2 (metres, OpenCV optical camera frames).
 struct CalibrationResult {
   Setup setup = Setup::kEyeToHand;
   Method method = Method::kJoint;
   std::vector<CameraResult> cameras;  ///< dataset order
   /// eye_to_hand: T_ee_target; eye_in_hand: T_base_target.
   Eigen::Isometry3d T_target = Eigen::Isometry3d::Identity();
-  std::vector<CameraPairResult> camera_pairs;
+  std::vector<CameraPairResult> camera_pairs;  ///< every pair that shared a pose
   CalibrationMetrics metrics;
   SolverSummary solver;
-  std::vector<ViewResult> views;
+  std::vector<ViewResult> views;  ///< every observation, used or rejected
   /// Things a user must see (rejected views, uncalibrated cameras, …).
   std::vector<std::string> warnings;
   /// How the solve went (initialisation chosen, …): information, not a problem.
@@ -108,6 +120,7 @@ struct CalibrationResult {
 };
 
 /// Calibrates from the dataset's observations (detect first for images).
+/// Reentrant: calls on different datasets may run at the same time.
 /// Throws InputError for inconsistent input and SolveError when the problem
 /// cannot be solved (too few views, degenerate motion, no convergence).
 CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& options);

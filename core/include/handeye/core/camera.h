@@ -74,8 +74,9 @@ struct OpenCVCameraModel {
 };
 
 /// One camera: name, image size and intrinsics in OpenCVCameraModel order.
+/// A plain value; its frame is the OpenCV optical frame (x right, y down, z forward).
 struct Camera {
-  std::string name;
+  std::string name;  ///< unique in a dataset, without '/'
   int width = 0;   ///< pixels
   int height = 0;  ///< pixels
   /// fx, fy, cx, cy then 14 distortion coefficients (unused ones zero).
@@ -91,12 +92,13 @@ struct Camera {
                                     double cx, double cy, const std::vector<double>& distortion,
                                     std::string* why);
 
-  double fx() const { return params[0]; }
-  double fy() const { return params[1]; }
-  double cx() const { return params[2]; }
-  double cy() const { return params[3]; }
+  double fx() const { return params[0]; }  ///< focal length along x, pixels
+  double fy() const { return params[1]; }  ///< focal length along y, pixels
+  double cx() const { return params[2]; }  ///< principal point, pixels (SPEC §2 origin)
+  double cy() const { return params[3]; }  ///< principal point, pixels
   /// The distortion coefficients as given (num_distortion entries).
   std::vector<double> Distortion() const;
+  /// True when a distortion coefficient is non-zero.
   bool HasDistortion() const;
 
   /// Pixel of a point in the camera frame; nullopt behind the camera.

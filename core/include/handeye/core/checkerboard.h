@@ -15,6 +15,7 @@ class CheckerboardTarget : public Target {
  public:
   /// Throws InputError (paths relative to the target object) on bad values.
   explicit CheckerboardTarget(const TargetSpec& spec);
+  /// `cols` × `rows` inner corners (both >= 2), squares of `square_size_m` metres.
   CheckerboardTarget(int cols, int rows, double square_size_m);
 
   std::string Type() const override { return "checkerboard"; }
@@ -24,9 +25,9 @@ class CheckerboardTarget : public Target {
   double Albedo(double x_m, double y_m) const override;
   std::vector<std::string> Warnings() const override;
 
-  int cols() const { return cols_; }
-  int rows() const { return rows_; }
-  double square_size_m() const { return square_m_; }
+  int cols() const { return cols_; }                  ///< inner corners along x
+  int rows() const { return rows_; }                  ///< inner corners along y
+  double square_size_m() const { return square_m_; }  ///< metres
   /// True when cols + rows is even: the board looks the same turned by 180°,
   /// so no detector can tell (0, 0) from the opposite corner.
   bool IsAmbiguous() const { return (cols_ + rows_) % 2 == 0; }

@@ -25,7 +25,9 @@ std::optional<Setup> ParseSetup(const std::string& name);
 
 /// One robot pose: what the controller reported, and the images taken there.
 struct RobotPose {
-  std::string id;
+  std::string id;  ///< unique within the dataset (SPEC §4 `poses[].id`)
+  /// Pose of the ee frame (flange or TCP, whatever the robot reports) in the
+  /// robot base frame; metres.
   Eigen::Isometry3d T_base_ee = Eigen::Isometry3d::Identity();
   /// camera name → image path (absolute, or relative to the working directory;
   /// the loader resolves paths relative to the dataset file).
@@ -34,19 +36,23 @@ struct RobotPose {
 
 /// The target points one camera detected in the image of one pose.
 struct Observation {
-  std::string pose_id;
-  std::string camera;
+  std::string pose_id;  ///< RobotPose::id of the pose the image was taken at
+  std::string camera;   ///< Camera::name
   std::vector<int> ids;                    ///< ids of Target::Points(), unique
   std::vector<Eigen::Vector2d> points_px;  ///< same length as ids
 };
 
 /// A calibration problem: everything of a dataset, plus the observations once
-/// detected (empty for a dataset that has only images).
+/// detected (empty for a dataset that has only images). A plain value: copy
+/// it freely (the target is shared, immutable and thread-safe); concurrent
+/// reads are safe, a writer needs exclusive access.
 struct Dataset {
   Setup setup = Setup::kEyeToHand;
+  /// The calibration target (MakeTarget, handeye/detectors/registry.h).
   std::shared_ptr<const Target> target;
-  std::vector<Camera> cameras;
-  std::vector<RobotPose> poses;
+  std::vector<Camera> cameras;  ///< names unique
+  std::vector<RobotPose> poses;  ///< ids unique
+  /// Detected target points per view; what Calibrate() uses.
   std::vector<Observation> observations;
 
   /// Index of the camera with this name, or -1.

@@ -11,12 +11,14 @@
 
 namespace handeye {
 
+/// Error of one camera against the truth.
 struct CameraError {
-  std::string name;
+  std::string name;  ///< Camera::name
   double translation_mm = 0;  ///< ‖t − t̂‖ of T_base_cam (T_ee_cam)
   double rotation_deg = 0;    ///< angle(Rᵀ R̂)
 };
 
+/// A result compared with ground truth (`handeye evaluate`).
 struct Evaluation {
   std::vector<CameraError> cameras;  ///< calibrated cameras with ground truth
   double mean_translation_mm = 0;

@@ -37,6 +37,8 @@ struct SceneOptions {
   /// A point counts as visible when it projects at least this far inside the image.
   double border_margin_px = 4.0;
 
+  /// False, with the reason in `*why`, for an unknown cell or a value out of
+  /// its domain. MakeScene() checks too.
   bool Check(std::string* why) const;
 };
 

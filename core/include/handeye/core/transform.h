@@ -52,7 +52,9 @@ Eigen::Isometry3d MakeTransformFromRotationVector(const Eigen::Vector3d& rotvec,
 /// Ceres pose parameter block `[qx qy qz qw tx ty tz]` (STYLE.md), quaternion
 /// normalised, qw >= 0.
 using PoseParams = std::array<double, 7>;
+/// The parameter block of a transform (quaternion normalised, qw >= 0).
 PoseParams ToPoseParams(const Eigen::Isometry3d& T);
+/// The transform of a parameter block `[qx qy qz qw tx ty tz]` (7 doubles).
 Eigen::Isometry3d FromPoseParams(const double* params);
 
 /// p_a = T_a_b * p_b with T_a_b given as a `[qx qy qz qw tx ty tz]` block.

@@ -13,6 +13,7 @@
 
 namespace handeye {
 
+/// Cramér–Rao covariance of every camera's pose, by camera name.
 struct PositionCovariance {
   /// Camera name → 3×3 covariance (m²) of the camera position: t of T_base_cam
   /// (eye_to_hand) or of T_ee_cam (eye_in_hand).

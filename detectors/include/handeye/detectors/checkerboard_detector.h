@@ -14,7 +14,9 @@ namespace handeye {
 /// that ambiguous boards, cols + rows even, cannot resolve).
 class CheckerboardDetector : public Detector {
  public:
+  /// Shares ownership of the target; `target` must not be null.
   explicit CheckerboardDetector(std::shared_ptr<const CheckerboardTarget> target);
+  /// Every inner corner, or nullopt when the whole board is not found.
   std::optional<Detection> Detect(const cv::Mat& gray) const override;
 
  private:

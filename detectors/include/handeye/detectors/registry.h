@@ -16,11 +16,15 @@
 
 namespace handeye {
 
+/// A target type: how to make its geometry and its detector. The functions
+/// may be called from several threads at once.
 struct TargetPlugin {
   std::string type;  ///< `target.type`
-  /// Makes the geometry from the `target` object; throws InputError.
+  /// Makes the geometry from the `target` object; throws InputError with the
+  /// path of the offending key inside the object (e.g. `/dots`).
   std::function<std::shared_ptr<const Target>(const TargetSpec&)> make_target;
-  /// Makes a detector for a target made by make_target.
+  /// Makes a detector for a target made by make_target (the registry passes
+  /// that target back, so a cast to the plugin's own type is safe).
   std::function<std::unique_ptr<Detector>(std::shared_ptr<const Target>)> make_detector;
 };
 

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
+/// @file
+/// Atomic file writes (SPEC §6: a failed run never leaves a half-written file).
 
 #include <string>
 

@@ -5,6 +5,13 @@
 /// §5) and `handeye-ground-truth/1`. Every loader throws InputError naming the
 /// file, the JSON path and what was expected; it never fills in a silent
 /// default. Writers are atomic (io/atomic_file.h).
+///
+/// Besides the 4×4 array of SPEC §4, `T_base_ee` may be a pose object
+/// (io/pose_formats.h: translation in m or mm, quaternion in either order,
+/// rotation vector or Euler angles), and a camera may give `intrinsics_file`
+/// instead of `intrinsics` and `distortion` (io/intrinsics_files.h: OpenCV,
+/// ROS camera_info, Kalibr camchain). The writers always write the explicit
+/// form (4×4 arrays, intrinsics in numbers).
 
 #include <nlohmann/json.hpp>
 #include <string>
@@ -14,6 +21,7 @@
 
 namespace handeye {
 
+/// How LoadDataset() treats robot rotations.
 struct LoadOptions {
   /// Replace a slightly non-orthonormal rotation in T_base_ee by the nearest
   /// rotation instead of rejecting it.

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
+/// @file
+/// Target detection over a whole dataset, in parallel (`handeye detect`).
 
 #include <cstddef>
 #include <functional>
@@ -8,6 +10,7 @@
 
 namespace handeye {
 
+/// How DetectAll() runs.
 struct DetectOptions {
   /// Worker threads; 0 = all cores.
   int threads = 0;

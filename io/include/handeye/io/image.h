@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
+/// @file
+/// Image files in and out (any format OpenCV reads; PNG out).
 
 #include <opencv2/core/mat.hpp>
 #include <string>

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
+/// @file
+/// The METRIC / original-tool folder layout (SPEC §8), `handeye import-metric`.
 
 #include <optional>
 #include <string>

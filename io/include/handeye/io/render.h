@@ -14,6 +14,7 @@
 
 namespace handeye {
 
+/// How RenderView() draws (optics, sensor, background).
 struct RenderOptions {
   /// Samples per pixel along each axis where the target is seen (n×n, one in
   /// each cell of an n×n split of the pixel). Keep it even: with n odd a
@@ -32,6 +33,7 @@ struct RenderOptions {
   bool clutter = true;
   std::uint64_t seed = 1;
 
+  /// False, with the reason in `*why`, when a value is out of its domain.
   bool Check(std::string* why) const;
 };
 

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
+/// @file
+/// A synthetic scene rendered to disk as a dataset (`handeye simulate`).
 
 #include <cstddef>
 #include <functional>
