@@ -6,6 +6,8 @@
 #include <mutex>
 
 #include "handeye/core/error.h"
+#include "handeye/detectors/aprilgrid_detector.h"
+#include "handeye/detectors/charuco_detector.h"
 #include "handeye/detectors/checkerboard_detector.h"
 
 namespace handeye {
@@ -21,6 +23,8 @@ std::map<std::string, TargetPlugin> BuiltinPlugins() {
          return std::make_unique<CheckerboardDetector>(
              std::dynamic_pointer_cast<const CheckerboardTarget>(t));
        }});
+  add(CharucoPlugin());
+  add(AprilGridPlugin());
   return plugins;
 }
 

@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// @file
+/// ChArUco target plugin: dictionary code books from OpenCV's aruco module
+/// and the detector (OpenCV 4.6 contrib aruco, then checks and refinement).
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "handeye/core/charuco.h"
+#include "handeye/detectors/detector.h"
+#include "handeye/detectors/registry.h"
+
+namespace handeye {
+
+/// OpenCV's predefined dictionary names (DICT_4X4_50 … DICT_APRILTAG_36h11).
+std::vector<std::string> ArucoDictionaryNames();
+/// The markers of a predefined dictionary as printed by cv::aruco::drawMarker.
+/// Throws InputError at `/dictionary` for an unknown name, listing the known ones.
+MarkerCodebook ArucoCodebook(const std::string& dictionary_name);
+/// A CharucoTarget for `spec`, its dictionary resolved by name; also checks
+/// the detector's options in `spec`. Throws InputError.
+std::shared_ptr<const CharucoTarget> MakeCharucoTarget(const TargetSpec& spec);
+/// The plugin for `target.type` "charuco" (registered in registry.cc).
+TargetPlugin CharucoPlugin();
+
+/// Why a corner interpolated by OpenCV was left out (see CharucoDetector).
+struct CharucoRejection {
+  int corner_id = 0;
+  /// "refinement" (no X junction found near it), "homography" (the two
+  /// markers around it disagree with each other, or the refined corner with
+  /// their local homography).
+  std::string reason;
+};
+
+/// ChArUco detector (SPEC §4). Markers by cv::aruco::detectMarkers (ids not
+/// on the board and ids seen twice are dropped), corners by
+/// cv::aruco::interpolateCornersCharuco from the two markers touching each.
+/// OpenCV 4.6 can return interpolated corners far from the true ones
+/// (opencv_contrib issues 3301, 3367), so each corner is then refined to the
+/// X junction of its two black squares and kept only when it agrees with the
+/// local homography of its two markers' eight corners, and when those eight
+/// fit one homography. A view needs `min_corners` corners that are not all
+/// on one line of the board.
+class CharucoDetector : public Detector {
+ public:
+  struct Options {
+    /// Fewest corners for a view (target key `min_corners`).
+    int min_corners = 8;
+    /// Largest distance between a refined corner and its prediction from the
+    /// local homography, as a fraction of the square's size in the image, and
+    /// at least `min_homography_tolerance_px`. Marker corners are found to a
+    /// fraction of a pixel; a misplaced corner is off by a marker margin or a
+    /// whole square.
+    double homography_tolerance = 0.1;
+    double min_homography_tolerance_px = 1.0;
+
+    bool Check(std::string* why) const;
+    /// Defaults overridden by the target object's `min_corners`.
+    static Options FromSpec(const TargetSpec& spec);
+  };
+
+  explicit CharucoDetector(std::shared_ptr<const CharucoTarget> target);
+  CharucoDetector(std::shared_ptr<const CharucoTarget> target, const Options& options);
+  ~CharucoDetector() override;
+
+  std::optional<Detection> Detect(const cv::Mat& gray) const override;
+  /// Detect(), also listing the interpolated corners that were left out.
+  std::optional<Detection> Detect(const cv::Mat& gray,
+                                  std::vector<CharucoRejection>* rejected) const;
+
+ private:
+  struct OpenCvState;
+  std::shared_ptr<const CharucoTarget> target_;
+  Options options_;
+  std::unique_ptr<const OpenCvState> cv_;
+};
+
+}  // namespace handeye

@@ -1,0 +1,267 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "handeye/detectors/charuco_detector.h"
+
+#include <algorithm>
+#include <map>
+#include <opencv2/aruco/charuco.hpp>
+#include <stdexcept>
+#include <utility>
+
+#include "handeye/core/error.h"
+#include "corner_refinement.h"
+
+namespace handeye {
+namespace {
+
+const std::vector<std::pair<std::string, cv::aruco::PREDEFINED_DICTIONARY_NAME>>& Dictionaries() {
+  using namespace cv::aruco;
+  static const std::vector<std::pair<std::string, PREDEFINED_DICTIONARY_NAME>> table = {
+      {"DICT_4X4_50", DICT_4X4_50},
+      {"DICT_4X4_100", DICT_4X4_100},
+      {"DICT_4X4_250", DICT_4X4_250},
+      {"DICT_4X4_1000", DICT_4X4_1000},
+      {"DICT_5X5_50", DICT_5X5_50},
+      {"DICT_5X5_100", DICT_5X5_100},
+      {"DICT_5X5_250", DICT_5X5_250},
+      {"DICT_5X5_1000", DICT_5X5_1000},
+      {"DICT_6X6_50", DICT_6X6_50},
+      {"DICT_6X6_100", DICT_6X6_100},
+      {"DICT_6X6_250", DICT_6X6_250},
+      {"DICT_6X6_1000", DICT_6X6_1000},
+      {"DICT_7X7_50", DICT_7X7_50},
+      {"DICT_7X7_100", DICT_7X7_100},
+      {"DICT_7X7_250", DICT_7X7_250},
+      {"DICT_7X7_1000", DICT_7X7_1000},
+      {"DICT_ARUCO_ORIGINAL", DICT_ARUCO_ORIGINAL},
+      {"DICT_APRILTAG_16h5", DICT_APRILTAG_16h5},
+      {"DICT_APRILTAG_25h9", DICT_APRILTAG_25h9},
+      {"DICT_APRILTAG_36h10", DICT_APRILTAG_36h10},
+      {"DICT_APRILTAG_36h11", DICT_APRILTAG_36h11},
+  };
+  return table;
+}
+
+cv::Ptr<cv::aruco::Dictionary> PredefinedDictionary(const std::string& name) {
+  for (const auto& [known, id] : Dictionaries())
+    if (known == name) return cv::aruco::getPredefinedDictionary(id);
+  std::string list;
+  for (const auto& [known, id] : Dictionaries()) list += (list.empty() ? "" : ", ") + known;
+  throw InputError("", "/dictionary",
+                   "unknown dictionary '" + name + "'; expected one of OpenCV's: " + list);
+}
+
+Eigen::Vector2d ToEigen(const cv::Point2f& p) { return {p.x, p.y}; }
+
+}  // namespace
+
+std::vector<std::string> ArucoDictionaryNames() {
+  std::vector<std::string> names;
+  for (const auto& [name, id] : Dictionaries()) names.push_back(name);
+  return names;
+}
+
+MarkerCodebook ArucoCodebook(const std::string& dictionary_name) {
+  const cv::Ptr<cv::aruco::Dictionary> dictionary = PredefinedDictionary(dictionary_name);
+  MarkerCodebook book;
+  book.name = dictionary_name;
+  book.bits = dictionary->markerSize;
+  book.codes.reserve(static_cast<std::size_t>(dictionary->bytesList.rows));
+  for (int id = 0; id < dictionary->bytesList.rows; ++id) {
+    // Rows top to bottom, 1 = white: what drawMarker prints inside the border.
+    const cv::Mat bits =
+        cv::aruco::Dictionary::getBitsFromByteList(dictionary->bytesList.row(id), book.bits);
+    std::vector<std::uint8_t> code(static_cast<std::size_t>(book.bits) * book.bits);
+    for (int r = 0; r < book.bits; ++r)
+      for (int c = 0; c < book.bits; ++c)
+        code[static_cast<std::size_t>(r) * book.bits + c] = bits.at<std::uint8_t>(r, c) ? 1 : 0;
+    book.codes.push_back(std::move(code));
+  }
+  return book;
+}
+
+std::shared_ptr<const CharucoTarget> MakeCharucoTarget(const TargetSpec& spec) {
+  // The dictionary first: without it the board cannot be built.
+  const std::string name = spec.GetString("dictionary", "");
+  if (name.empty())
+    throw InputError("", "/dictionary",
+                     "missing key; expected an OpenCV dictionary name such as DICT_5X5_100");
+  auto target = std::make_shared<const CharucoTarget>(spec, ArucoCodebook(name));
+  CharucoDetector::Options::FromSpec(spec);
+  return target;
+}
+
+TargetPlugin CharucoPlugin() {
+  return {"charuco", [](const TargetSpec& spec) -> std::shared_ptr<const Target> { return MakeCharucoTarget(spec); },
+          [](std::shared_ptr<const Target> target) -> std::unique_ptr<Detector> {
+            auto charuco = std::dynamic_pointer_cast<const CharucoTarget>(target);
+            if (!charuco) throw std::invalid_argument("charuco plugin: not a CharucoTarget");
+            return std::make_unique<CharucoDetector>(std::move(charuco));
+          }};
+}
+
+bool CharucoDetector::Options::Check(std::string* why) const {
+  auto fail = [why](const std::string& reason) {
+    if (why) *why = reason;
+    return false;
+  };
+  if (min_corners < 4) return fail("min_corners >= 4 (a pose needs four points)");
+  if (!(homography_tolerance > 0 && homography_tolerance < 0.5))
+    return fail("homography_tolerance in (0, 0.5) of a square");
+  if (!(min_homography_tolerance_px > 0)) return fail("min_homography_tolerance_px > 0");
+  return true;
+}
+
+CharucoDetector::Options CharucoDetector::Options::FromSpec(const TargetSpec& spec) {
+  Options options;
+  if (spec.Has("min_corners")) options.min_corners = spec.GetInt("min_corners", 4);
+  return options;
+}
+
+/// OpenCV's objects for one board; read-only after construction, so Detect()
+/// may run on several threads at once.
+struct CharucoDetector::OpenCvState {
+  cv::Ptr<cv::aruco::Dictionary> dictionary;
+  cv::Ptr<cv::aruco::CharucoBoard> board;
+  cv::Ptr<cv::aruco::DetectorParameters> parameters;
+};
+
+CharucoDetector::CharucoDetector(std::shared_ptr<const CharucoTarget> target)
+    : CharucoDetector(target, target ? Options::FromSpec(target->Spec()) : Options()) {}
+
+CharucoDetector::CharucoDetector(std::shared_ptr<const CharucoTarget> target, const Options& options)
+    : target_(std::move(target)), options_(options) {
+  if (!target_) throw std::invalid_argument("CharucoDetector: null target");
+  std::string why;
+  if (!options_.Check(&why)) throw std::invalid_argument("CharucoDetector: expected " + why);
+  auto state = std::make_unique<OpenCvState>();
+  state->dictionary = PredefinedDictionary(target_->dictionary().name);
+  // Board units are squares: only ratios matter to the interpolation.
+  state->board = cv::aruco::CharucoBoard::create(
+      target_->squares_x(), target_->squares_y(), 1.0f,
+      static_cast<float>(target_->marker_size_m() / target_->square_size_m()), state->dictionary);
+  state->parameters = cv::aruco::DetectorParameters::create();
+  // Marker corners only seed the interpolation and the consistency check; the
+  // chessboard corners are refined below, to X junctions.
+  state->parameters->cornerRefinementMethod = cv::aruco::CORNER_REFINE_NONE;
+  cv_ = std::move(state);
+}
+
+CharucoDetector::~CharucoDetector() = default;
+
+std::optional<Detection> CharucoDetector::Detect(const cv::Mat& gray) const {
+  return Detect(gray, nullptr);
+}
+
+std::optional<Detection> CharucoDetector::Detect(const cv::Mat& gray,
+                                                 std::vector<CharucoRejection>* rejected) const {
+  if (gray.empty() || gray.type() != CV_8UC1)
+    throw std::invalid_argument("CharucoDetector: expected an 8-bit single-channel image");
+  if (rejected) rejected->clear();
+
+  std::vector<std::vector<cv::Point2f>> marker_corners, candidates;
+  std::vector<int> marker_ids;
+  cv::aruco::detectMarkers(gray, cv_->dictionary, marker_corners, marker_ids, cv_->parameters,
+                           candidates);
+  // A marker id seen twice (a second board, a stray print) cannot be placed:
+  // drop every copy. Ids beyond the board's markers belong to something else.
+  std::map<int, int> copies;
+  for (int id : marker_ids) ++copies[id];
+  std::vector<std::vector<cv::Point2f>> kept_corners;
+  std::vector<int> kept_ids;
+  std::map<int, std::size_t> marker_index;
+  for (std::size_t i = 0; i < marker_ids.size(); ++i) {
+    const int id = marker_ids[i];
+    if (id < 0 || id >= target_->NumMarkers() || copies[id] != 1) continue;
+    marker_index[id] = kept_ids.size();
+    kept_ids.push_back(id);
+    kept_corners.push_back(marker_corners[i]);
+  }
+  if (kept_ids.size() < 2) return std::nullopt;
+
+  std::vector<cv::Point2f> interpolated;
+  std::vector<int> corner_ids;
+  cv::aruco::interpolateCornersCharuco(kept_corners, kept_ids, gray, cv_->board, interpolated,
+                                       corner_ids);
+
+  const double L = target_->square_size_m();
+  const double marker_margin = 0.5 * (L - target_->marker_size_m());  // metres
+  std::vector<std::pair<int, Eigen::Vector2d>> found;
+  auto reject = [rejected](int id, const char* reason) {
+    if (rejected) rejected->push_back({id, reason});
+  };
+  for (std::size_t i = 0; i < corner_ids.size(); ++i) {
+    const int id = corner_ids[i];
+    const TargetPoint* point = target_->FindPoint(id);
+    if (!point) continue;
+    // The local homography of the two markers that touch this corner.
+    std::vector<Eigen::Vector2d> board_xy, image_uv;
+    bool both_markers = true;
+    for (int marker : target_->MarkersAtCorner(id)) {
+      const auto it = marker_index.find(marker);
+      if (it == marker_index.end()) {
+        both_markers = false;
+        break;
+      }
+      const auto object = target_->MarkerCorners(marker);
+      for (int k = 0; k < 4; ++k) {
+        board_xy.push_back(object[k].head<2>());
+        image_uv.push_back(ToEigen(kept_corners[it->second][k]));
+      }
+    }
+    if (!both_markers) {
+      reject(id, "homography");
+      continue;
+    }
+    const auto H = internal::FitHomography(board_xy, image_uv);
+    if (!H) {
+      reject(id, "homography");
+      continue;
+    }
+    const Eigen::Vector2d xy = point->p_target.head<2>();
+    const Eigen::Vector2d predicted = internal::ApplyHomography(*H, xy);
+    const double square_px =
+        0.5 * ((internal::ApplyHomography(*H, xy + Eigen::Vector2d(L, 0)) - predicted).norm() +
+               (internal::ApplyHomography(*H, xy + Eigen::Vector2d(0, L)) - predicted).norm());
+    const double tolerance_px =
+        std::max(options_.min_homography_tolerance_px, options_.homography_tolerance * square_px);
+    bool markers_agree = true;
+    for (std::size_t k = 0; k < board_xy.size(); ++k)
+      markers_agree = markers_agree &&
+                      (internal::ApplyHomography(*H, board_xy[k]) - image_uv[k]).norm() <= tolerance_px;
+    if (!markers_agree) {
+      reject(id, "homography");
+      continue;
+    }
+    // The refinement disc stays inside the marker margins around the corner:
+    // the markers' edges would pull the estimate.
+    const double radius_px = std::clamp(0.9 * marker_margin / L * square_px, 1.5, 25.0);
+    const auto refined =
+        internal::RefineXCorner(gray, ToEigen(interpolated[i]), radius_px, tolerance_px);
+    if (!refined) {
+      reject(id, "refinement");
+      continue;
+    }
+    if ((*refined - predicted).norm() > tolerance_px) {
+      reject(id, "homography");
+      continue;
+    }
+    found.emplace_back(id, *refined);
+  }
+
+  if (static_cast<int>(found.size()) < options_.min_corners) return std::nullopt;
+  std::sort(found.begin(), found.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<Eigen::Vector2d> on_board;
+  for (const auto& [id, uv] : found) on_board.push_back(target_->FindPoint(id)->p_target.head<2>());
+  // Corners on one row, column or diagonal leave the pose free to turn about it.
+  if (!internal::SpansPlane(on_board, 0.5 * L)) return std::nullopt;
+
+  Detection detection;
+  for (const auto& [id, uv] : found) {
+    detection.ids.push_back(id);
+    detection.points_px.push_back(uv);
+  }
+  return detection;
+}
+
+}  // namespace handeye

@@ -1,0 +1,218 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "corner_refinement.h"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace handeye::internal {
+
+std::optional<Eigen::Vector2d> RefineXCorner(const cv::Mat& gray, const Eigen::Vector2d& guess,
+                                             double radius_px, double max_shift_px) {
+  if (!guess.allFinite() || radius_px <= 0) return std::nullopt;
+  // Pixels the disc can reach while the estimate stays within max_shift_px,
+  // plus one for the gradient stencil.
+  const double reach = radius_px + max_shift_px + 1.0;
+  const int x0 = std::max(1, static_cast<int>(std::floor(guess.x() - reach)));
+  const int y0 = std::max(1, static_cast<int>(std::floor(guess.y() - reach)));
+  const int x1 = std::min(gray.cols - 2, static_cast<int>(std::ceil(guess.x() + reach)));
+  const int y1 = std::min(gray.rows - 2, static_cast<int>(std::ceil(guess.y() + reach)));
+  if (x1 - x0 < 2 || y1 - y0 < 2) return std::nullopt;
+  const int w = x1 - x0 + 1, h = y1 - y0 + 1;
+  // 3×3 Sobel gradients at pixel centres (integer coordinates).
+  std::vector<float> gx(static_cast<std::size_t>(w) * h), gy(gx.size());
+  for (int y = y0; y <= y1; ++y) {
+    const auto* up = gray.ptr<std::uint8_t>(y - 1);
+    const auto* mid = gray.ptr<std::uint8_t>(y);
+    const auto* down = gray.ptr<std::uint8_t>(y + 1);
+    for (int x = x0; x <= x1; ++x) {
+      const std::size_t k = static_cast<std::size_t>(y - y0) * w + (x - x0);
+      gx[k] = static_cast<float>((up[x + 1] - up[x - 1]) + 2 * (mid[x + 1] - mid[x - 1]) +
+                                 (down[x + 1] - down[x - 1]));
+      gy[k] = static_cast<float>((down[x - 1] - up[x - 1]) + 2 * (down[x] - up[x]) +
+                                 (down[x + 1] - up[x + 1]));
+    }
+  }
+
+  const double sigma = 0.5 * radius_px;
+  const double inv_two_sigma2 = 1.0 / (2.0 * sigma * sigma);
+  Eigen::Vector2d c = guess;
+  for (int iter = 0; iter < 40; ++iter) {
+    Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d b = Eigen::Vector2d::Zero();
+    const int ux0 = std::max(x0, static_cast<int>(std::floor(c.x() - radius_px)));
+    const int ux1 = std::min(x1, static_cast<int>(std::ceil(c.x() + radius_px)));
+    const int uy0 = std::max(y0, static_cast<int>(std::floor(c.y() - radius_px)));
+    const int uy1 = std::min(y1, static_cast<int>(std::ceil(c.y() + radius_px)));
+    for (int y = uy0; y <= uy1; ++y) {
+      const double dy = y - c.y();
+      for (int x = ux0; x <= ux1; ++x) {
+        const double dx = x - c.x();
+        const double r2 = dx * dx + dy * dy;
+        if (r2 > radius_px * radius_px) continue;
+        const std::size_t k = static_cast<std::size_t>(y - y0) * w + (x - x0);
+        const double g0 = gx[k], g1 = gy[k];
+        const double wgt = std::exp(-r2 * inv_two_sigma2);
+        const double a00 = wgt * g0 * g0, a01 = wgt * g0 * g1, a11 = wgt * g1 * g1;
+        A(0, 0) += a00;
+        A(0, 1) += a01;
+        A(1, 1) += a11;
+        b.x() += a00 * x + a01 * y;
+        b.y() += a01 * x + a11 * y;
+      }
+    }
+    A(1, 0) = A(0, 1);
+    // Both edge directions must be present: a single straight edge (or flat
+    // paper) leaves the point free to slide along it.
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(A, Eigen::EigenvaluesOnly);
+    const double lmin = eig.eigenvalues()(0), lmax = eig.eigenvalues()(1);
+    if (!(lmax > 0) || lmin < 0.02 * lmax) return std::nullopt;
+    const Eigen::Vector2d next = A.ldlt().solve(b);
+    if (!next.allFinite()) return std::nullopt;
+    const double step = (next - c).norm();
+    c = next;
+    if ((c - guess).norm() > max_shift_px) return std::nullopt;
+    if (step < 1e-4) break;
+  }
+  return c;
+}
+
+std::optional<EdgeLine> FitEdge(const cv::Mat& gray, const Eigen::Vector2d& from,
+                                const Eigen::Vector2d& to, double extend_px, double skip_px,
+                                double half_width_px) {
+  const double length = (to - from).norm();
+  if (!(length > 0) || !from.allFinite() || !to.allFinite()) return std::nullopt;
+  Eigen::Vector2d along = (to - from) / length;
+  EdgeLine line{Eigen::Vector2d(-along.y(), along.x()), 0.0};
+  line.offset = line.normal.dot(from);
+  for (int iter = 0; iter < 5; ++iter) {
+    // The band's corners bound the pixels to visit.
+    const Eigen::Vector2d base = from - line.normal * (line.normal.dot(from) - line.offset);
+    const Eigen::Vector2d ends[2] = {base - extend_px * along, base + (length + extend_px) * along};
+    double umin = 1e300, umax = -1e300, vmin = 1e300, vmax = -1e300;
+    for (const Eigen::Vector2d& end : ends) {
+      for (double side : {-1.0, 1.0}) {
+        const Eigen::Vector2d p = end + side * (half_width_px + 1.0) * line.normal;
+        umin = std::min(umin, p.x());
+        umax = std::max(umax, p.x());
+        vmin = std::min(vmin, p.y());
+        vmax = std::max(vmax, p.y());
+      }
+    }
+    // Clipped to the image (less the gradient stencil's rim): an edge that
+    // runs out of the image is fitted on the part inside.
+    const int x0 = std::max(1, static_cast<int>(std::floor(umin)));
+    const int x1 = std::min(gray.cols - 2, static_cast<int>(std::ceil(umax)));
+    const int y0 = std::max(1, static_cast<int>(std::floor(vmin)));
+    const int y1 = std::min(gray.rows - 2, static_cast<int>(std::ceil(vmax)));
+    double weight_sum = 0;
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    Eigen::Matrix2d second = Eigen::Matrix2d::Zero();
+    for (int y = y0; y <= y1; ++y) {
+      const auto* up = gray.ptr<std::uint8_t>(y - 1);
+      const auto* mid = gray.ptr<std::uint8_t>(y);
+      const auto* down = gray.ptr<std::uint8_t>(y + 1);
+      for (int x = x0; x <= x1; ++x) {
+        const Eigen::Vector2d p(x, y);
+        const double t = along.dot(p - base);
+        const double d = line.normal.dot(p) - line.offset;
+        if (t < -extend_px || t > length + extend_px || std::abs(d) > half_width_px) continue;
+        if (std::abs(t) < skip_px || std::abs(t - length) < skip_px) continue;
+        const double gx = (up[x + 1] - up[x - 1]) + 2.0 * (mid[x + 1] - mid[x - 1]) + (down[x + 1] - down[x - 1]);
+        const double gy = (down[x - 1] - up[x - 1]) + 2.0 * (down[x] - up[x]) + (down[x + 1] - up[x + 1]);
+        const double g = gx * line.normal.x() + gy * line.normal.y();
+        const double w = g * g;
+        weight_sum += w;
+        mean += w * p;
+        second += w * p * p.transpose();
+      }
+    }
+    // Less than a short edge's worth of gradient: nothing to fit.
+    if (!(weight_sum > 1e4)) return std::nullopt;
+    mean /= weight_sum;
+    const Eigen::Matrix2d scatter = second / weight_sum - mean * mean.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(scatter);
+    Eigen::Vector2d next_along = eig.eigenvectors().col(1);
+    if (next_along.dot(along) < 0) next_along = -next_along;
+    const EdgeLine next{Eigen::Vector2d(-next_along.y(), next_along.x()),
+                        Eigen::Vector2d(-next_along.y(), next_along.x()).dot(mean)};
+    // How far the fitted line moved, at the edge's two ends.
+    const double moved = std::abs(next.normal.dot(base) - next.offset) +
+                         std::abs(next.normal.dot(base + length * along) - next.offset);
+    along = next_along;
+    line = next;
+    if (moved < 1e-3) break;
+  }
+  return line;
+}
+
+std::optional<Eigen::Vector2d> Intersect(const EdgeLine& a, const EdgeLine& b) {
+  Eigen::Matrix2d A;
+  A.row(0) = a.normal.transpose();
+  A.row(1) = b.normal.transpose();
+  const double det = A.determinant();
+  // Edges closer than about 6° to parallel give an ill-defined corner.
+  if (std::abs(det) < 0.1) return std::nullopt;
+  return A.inverse() * Eigen::Vector2d(a.offset, b.offset);
+}
+
+bool SpansPlane(const std::vector<Eigen::Vector2d>& points, double min_spread_m) {
+  if (points.size() < 3) return false;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : points) mean += p;
+  mean /= static_cast<double>(points.size());
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  for (const auto& p : points) scatter += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(scatter);
+  const Eigen::Vector2d normal = eig.eigenvectors().col(0);  // across the best-fit line
+  double spread = 0;
+  for (const auto& p : points) spread = std::max(spread, std::abs(normal.dot(p - mean)));
+  return spread >= min_spread_m;
+}
+
+namespace {
+
+/// Similarity moving the points' centroid to 0 and their mean distance to √2
+/// (Hartley normalisation), so the DLT is well conditioned.
+Eigen::Matrix3d Normaliser(const std::vector<Eigen::Vector2d>& points) {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : points) mean += p;
+  mean /= static_cast<double>(points.size());
+  double spread = 0;
+  for (const auto& p : points) spread += (p - mean).norm();
+  spread /= static_cast<double>(points.size());
+  const double s = spread > 0 ? std::sqrt(2.0) / spread : 1.0;
+  Eigen::Matrix3d T;
+  T << s, 0, -s * mean.x(), 0, s, -s * mean.y(), 0, 0, 1;
+  return T;
+}
+
+}  // namespace
+
+std::optional<Eigen::Matrix3d> FitHomography(const std::vector<Eigen::Vector2d>& from,
+                                             const std::vector<Eigen::Vector2d>& to) {
+  const std::size_t n = from.size();
+  if (n < 4 || to.size() != n) return std::nullopt;
+  const Eigen::Matrix3d Tf = Normaliser(from), Tt = Normaliser(to);
+  Eigen::MatrixXd M(2 * n, 9);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d p = Tf * from[i].homogeneous();
+    const Eigen::Vector3d q = Tt * to[i].homogeneous();
+    M.row(2 * i) << p.x(), p.y(), 1, 0, 0, 0, -q.x() * p.x(), -q.x() * p.y(), -q.x();
+    M.row(2 * i + 1) << 0, 0, 0, p.x(), p.y(), 1, -q.y() * p.x(), -q.y() * p.y(), -q.y();
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeFullV);
+  const Eigen::VectorXd s = svd.singularValues();
+  // A second vanishing singular value: the points do not fix H (e.g. three collinear).
+  if (!(s(7) > 1e-9 * s(0))) return std::nullopt;
+  const Eigen::VectorXd h = svd.matrixV().col(8);
+  Eigen::Matrix3d Hn;
+  Hn << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), h(8);
+  const Eigen::Matrix3d H = Tt.inverse() * Hn * Tf;
+  if (!H.allFinite() || std::abs(H(2, 2)) < 1e-15) return std::nullopt;
+  return H / H(2, 2);
+}
+
+}  // namespace handeye::internal
