@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// `handeye calibrate DATASET|OBS -o RESULT.json [--method M]`: detects if the
-// input has only images, initialises, solves and writes handeye-result/1.
+// `handeye calibrate DATASET|OBS -o RESULT.json [--method M] [--report DIR]`:
+// detects if the input has only images, initialises, solves and writes
+// handeye-result/1 (and the report, with --report).
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -11,6 +12,7 @@
 #include "handeye/core/error.h"
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/detection.h"
+#include "handeye/io/report.h"
 #include "handeye/io/result_json.h"
 
 namespace handeye::tools {
@@ -24,6 +26,7 @@ struct CalibrateArgs {
   bool no_cross_terms = false;
   int threads = 0;
   bool reorthonormalise = false;
+  std::string report;  // --report DIR
 };
 
 void PrintSummary(const CalibrationResult& result) {
@@ -90,6 +93,17 @@ void RunCalibrate(const CalibrateArgs& args) {
   SaveResult(result, args.output);
   PrintSummary(result);
   std::fprintf(stderr, "wrote %s\n", args.output.c_str());
+  if (!args.report.empty()) {
+    // The same report as `handeye report DATASET RESULT -o DIR`, from the data in memory.
+    ReportOptions report;
+    report.threads = args.threads;
+    report.dataset_label = args.input;
+    report.result_label = args.output;
+    report.progress = ProgressLine("drawing overlays");
+    const ReportSummary written = WriteReport(dataset, result, args.report, report);
+    std::fprintf(stderr, "wrote %s (%zu warnings: see the report)\n", written.index_html.c_str(),
+                 written.warnings.size());
+  }
 }
 
 }  // namespace
@@ -109,6 +123,8 @@ void RegisterCalibrate(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--reorthonormalise", args->reorthonormalise,
                 "replace slightly non-orthonormal robot rotations by the nearest rotation");
+  cmd->add_option("--report", args->report,
+                  "also write the HTML report and overlays into this folder");
   cmd->callback([args]() { RunCalibrate(*args); });
 }
 
