@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The nonlinear refinement: the paper's joint problem (shared Z, c_rpj + c_cross
 // under a Cauchy loss) and the per-camera variant.
-#include <ceres/loss_function.h>
 #include <ceres/manifold.h>
 #include <ceres/product_manifold.h>
 #include <ceres/problem.h>
@@ -32,17 +31,24 @@ class PoseBlocks {
   std::vector<std::unique_ptr<PoseParams>> blocks_;
 };
 
+ViewPoints Points(const View& view) {
+  return {view.p_target, view.observation->points_px};
+}
+
 void SetPoseManifold(ceres::Problem* problem, double* block) {
   problem->SetManifold(block, new PoseManifold());
 }
 
-ceres::Solver::Options SolverOptions(const CalibrationOptions& options, int num_blocks) {
+ceres::Solver::Options SolverOptions(const CalibrationOptions& options, const ceres::Problem& problem) {
   ceres::Solver::Options solver;
-  // The problem has no landmarks, only a few pose blocks: dense normal
-  // equations are fastest while the system is small; sparse ones once many
-  // cameras make it large and mostly empty (pairs only touch their two cameras).
+  // The problem has no landmarks, only pose blocks, so the normal equations
+  // are small (6 per block). A dense Jacobian is cheapest while it is small;
+  // past that, the block-sparse Jacobian avoids multiplying its zeros (each
+  // view touches two or three blocks).
+  const double dense_jacobian_entries =
+      static_cast<double>(problem.NumResiduals()) * problem.NumParameters();
   solver.linear_solver_type =
-      num_blocks <= 80 ? ceres::DENSE_NORMAL_CHOLESKY : ceres::SPARSE_NORMAL_CHOLESKY;
+      dense_jacobian_entries <= 2e6 ? ceres::DENSE_NORMAL_CHOLESKY : ceres::SPARSE_NORMAL_CHOLESKY;
   solver.max_num_iterations = options.max_iterations;
   solver.function_tolerance = 1e-12;
   solver.gradient_tolerance = 1e-14;
@@ -76,9 +82,7 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
   const Dataset& dataset = *problem.dataset;
   ceres::Problem::Options problem_options;
   problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
-  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem ceres_problem(problem_options);
-  ceres::CauchyLoss loss(options.cauchy_scale_px);
   PoseBlocks blocks;
 
   double* Z = blocks.Add(init.Z);
@@ -92,18 +96,16 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
     SetPoseManifold(&ceres_problem, X[k]);
   }
 
-  // c_rpj: every point of every used view.
+  // c_rpj: every point of every used view (one block per view, the loss per point).
   std::vector<std::vector<int>> views_at_pose(dataset.poses.size());
   for (size_t v = 0; v < problem.views.size(); ++v) {
     const View& view = problem.views[v];
     if (!view.used || !X[view.camera]) continue;
     views_at_pose[view.pose].push_back(static_cast<int>(v));
-    const Camera& camera = dataset.cameras[view.camera];
-    for (size_t i = 0; i < view.p_target.size(); ++i)
-      ceres_problem.AddResidualBlock(
-          ReprojectionError::Create(camera, problem.M[view.pose], view.p_target[i],
-                                    view.observation->points_px[i]),
-          &loss, X[view.camera], Z);
+    ceres_problem.AddResidualBlock(
+        ViewReprojectionError::Create(dataset.cameras[view.camera], problem.M[view.pose], Points(view),
+                                      options.cauchy_scale_px),
+        nullptr, X[view.camera], Z);
   }
 
   // c_cross: at each pose, for each ordered pair (k, t) of cameras that both
@@ -122,18 +124,15 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
             ceres_problem.AddParameterBlock(T_kt, 7);
             SetPoseManifold(&ceres_problem, T_kt);
           }
-          const Camera& camera_k = dataset.cameras[k];
-          for (size_t i = 0; i < view_k.p_target.size(); ++i)
-            ceres_problem.AddResidualBlock(
-                CrossReprojectionError::Create(camera_k, problem.M[view_k.pose], view_k.p_target[i],
-                                               view_k.observation->points_px[i]),
-                &loss, T_kt, X[t], Z);
+          ceres_problem.AddResidualBlock(
+              ViewCrossReprojectionError::Create(dataset.cameras[k], problem.M[view_k.pose], Points(view_k),
+                                                 options.cauchy_scale_px),
+              nullptr, T_kt, X[t], Z);
         }
   }
 
-  const int num_blocks = ceres_problem.NumParameterBlocks();
   Refinement out;
-  out.summary = Solve(SolverOptions(options, num_blocks), &ceres_problem);
+  out.summary = Solve(SolverOptions(options, ceres_problem), &ceres_problem);
   out.Z.push_back(PoseBlocks::Get(Z));
   out.X.resize(X.size());
   for (size_t k = 0; k < X.size(); ++k)
@@ -148,12 +147,10 @@ Refinement RefinePerCamera(const Problem& problem, const std::vector<std::option
   Refinement out;
   out.X.resize(dataset.cameras.size());
   out.Z = Z0;
-  ceres::CauchyLoss loss(options.cauchy_scale_px);
   for (size_t k = 0; k < dataset.cameras.size(); ++k) {
     if (!X0[k] || problem.camera_views[k].empty()) continue;
     ceres::Problem::Options problem_options;
     problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
-    problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem ceres_problem(problem_options);
     PoseBlocks blocks;
     double* X = blocks.Add(*X0[k]);
@@ -164,13 +161,12 @@ Refinement RefinePerCamera(const Problem& problem, const std::vector<std::option
     }
     for (int v : problem.camera_views[k]) {
       const View& view = problem.views[v];
-      for (size_t i = 0; i < view.p_target.size(); ++i)
-        ceres_problem.AddResidualBlock(
-            ReprojectionError::Create(dataset.cameras[k], problem.M[view.pose], view.p_target[i],
-                                      view.observation->points_px[i]),
-            &loss, X, Z);
+      ceres_problem.AddResidualBlock(
+          ViewReprojectionError::Create(dataset.cameras[k], problem.M[view.pose], Points(view),
+                                        options.cauchy_scale_px),
+          nullptr, X, Z);
     }
-    const SolverSummary s = Solve(SolverOptions(options, 2), &ceres_problem);
+    const SolverSummary s = Solve(SolverOptions(options, ceres_problem), &ceres_problem);
     out.summary.seconds += s.seconds;
     out.summary.iterations += s.iterations;
     out.summary.termination = s.termination;

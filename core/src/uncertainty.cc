@@ -71,13 +71,17 @@ PositionCovariance ComputePositionCovariance(const Dataset& dataset, const Calib
     }
     const Eigen::Isometry3d M = dataset.setup == Setup::kEyeToHand ? dataset.poses[j].T_base_ee
                                                                    : dataset.poses[j].T_base_ee.inverse();
+    ViewPoints points;
     for (size_t i = 0; i < obs.ids.size(); ++i) {
       const TargetPoint* p = dataset.target->FindPoint(obs.ids[i]);
       if (!p) continue;
-      problem.AddResidualBlock(
-          ReprojectionError::Create(dataset.cameras[k], M, p->p_target, obs.points_px[i]), nullptr,
-          X[k].data(), Z.data());
+      points.p_target.push_back(p->p_target);
+      points.observed_px.push_back(obs.points_px[i]);
     }
+    if (points.p_target.empty()) continue;
+    // No robust loss: the bound is for Gaussian noise on every point.
+    problem.AddResidualBlock(ViewReprojectionError::Create(dataset.cameras[k], M, std::move(points), 0.0),
+                             nullptr, X[k].data(), Z.data());
   }
   ceres::Covariance::Options options;
   options.algorithm_type = ceres::DENSE_SVD;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include <catch2/catch.hpp>
 #include <array>
+#include <cmath>
 #include <memory>
 
 #include "handeye/core/cost_functions.h"
@@ -16,58 +17,50 @@ Camera TestCamera() {
   return *Camera::Make("cam", 1920, 1080, 1400, 1395, 955, 545, {-0.1, 0.03, 0.001, -0.002, 0.004}, &why);
 }
 
-}  // namespace
+struct Chain {
+  Eigen::Isometry3d X = MakeTransformFromRotationVector({0.1, -2.9, 0.2}, {0.3, 0.8, 2.1});
+  Eigen::Isometry3d M = MakeTransformFromRotationVector({0.4, 0.2, -0.3}, {0.5, 0.1, 1.0});
+  Eigen::Isometry3d Z = MakeTransformFromRotationVector({-0.2, 0.1, 0.0}, {0.0, 0.02, 0.1});
+  Eigen::Isometry3d X_t = MakeTransformFromRotationVector({0.3, 2.0, -0.1}, {-0.5, 0.6, 2.5});
+};
 
-TEST_CASE("ReprojectionError gives the exact residual of the chain", "[cost]") {
-  const Camera camera = TestCamera();
-  const Eigen::Isometry3d X = MakeTransformFromRotationVector({0.1, -2.9, 0.2}, {0.3, 0.8, 2.1});
-  const Eigen::Isometry3d M = MakeTransformFromRotationVector({0.4, 0.2, -0.3}, {0.5, 0.1, 1.0});
-  const Eigen::Isometry3d Z = MakeTransformFromRotationVector({-0.2, 0.1, 0.0}, {0.0, 0.02, 0.1});
-  const Eigen::Vector3d p(0.08, 0.12, 0.0);
-  const auto uv = camera.Project(X * M * Z * p);
-  REQUIRE(uv);
-  const Eigen::Vector2d observed = *uv + Eigen::Vector2d(0.7, -1.1);
-  ReprojectionError functor(camera, M, p, observed);
-  const PoseParams Xp = ToPoseParams(X), Zp = ToPoseParams(Z);
-  double r[2];
-  REQUIRE(functor(Xp.data(), Zp.data(), r));
-  REQUIRE(r[0] == Approx(-0.7).margin(1e-9));
-  REQUIRE(r[1] == Approx(1.1).margin(1e-9));
-
-  // Cross term: T_camk_camt · X_t reproduces X_k.
-  const Eigen::Isometry3d X_t = MakeTransformFromRotationVector({0.3, 2.0, -0.1}, {-0.5, 0.6, 2.5});
-  const PoseParams T_kt = ToPoseParams(X * X_t.inverse()), Xt = ToPoseParams(X_t);
-  CrossReprojectionError cross(camera, M, p, observed);
-  REQUIRE(cross(T_kt.data(), Xt.data(), Zp.data(), r));
-  REQUIRE(r[0] == Approx(-0.7).margin(1e-8));
-  REQUIRE(r[1] == Approx(1.1).margin(1e-8));
+/// Points in front of the camera with offsets of 0.7/−1.1 px, 3 px and 40 px.
+ViewPoints Offsets(const Camera& camera, const Chain& c, std::vector<Eigen::Vector2d>* offsets) {
+  *offsets = {{0.7, -1.1}, {3.0, 0.0}, {0.0, 40.0}};
+  const std::vector<Eigen::Vector3d> p = {{0.08, 0.12, 0.0}, {0.0, 0.0, 0.0}, {0.16, 0.04, 0.0}};
+  ViewPoints view;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const auto uv = camera.Project(c.X * c.M * c.Z * p[i]);
+    REQUIRE(uv);
+    view.p_target.push_back(p[i]);
+    view.observed_px.push_back(*uv - (*offsets)[i]);
+  }
+  return view;
 }
 
 // Central differences of CostFunction::Evaluate against its autodiff
-// Jacobians, every parameter of every block. (ceres::GradientChecker of the
-// Debian Ceres 2.1 build fails its own numeric evaluation on these functors,
-// so the same comparison is made here directly.)
+// Jacobians, every parameter of every block.
 double WorstJacobianError(const ceres::CostFunction& cost, std::vector<PoseParams> blocks) {
   const size_t n = blocks.size();
+  const int m = cost.num_residuals();
   std::vector<double*> params;
   for (auto& b : blocks) params.push_back(b.data());
-  std::vector<std::array<double, 14>> jac(n);
+  std::vector<std::vector<double>> jac(n, std::vector<double>(m * 7));
   std::vector<double*> jac_ptrs;
   for (auto& j : jac) jac_ptrs.push_back(j.data());
-  double r[2];
-  if (!cost.Evaluate(params.data(), r, jac_ptrs.data())) return 1e300;
+  std::vector<double> r(m), rp(m), rm(m);
+  if (!cost.Evaluate(params.data(), r.data(), jac_ptrs.data())) return 1e300;
   double worst = 0;
   for (size_t b = 0; b < n; ++b)
     for (int i = 0; i < 7; ++i) {
       const double h = 1e-6;
       const double saved = blocks[b][i];
-      double rp[2], rm[2];
       blocks[b][i] = saved + h;
-      cost.Evaluate(params.data(), rp, nullptr);
+      cost.Evaluate(params.data(), rp.data(), nullptr);
       blocks[b][i] = saved - h;
-      cost.Evaluate(params.data(), rm, nullptr);
+      cost.Evaluate(params.data(), rm.data(), nullptr);
       blocks[b][i] = saved;
-      for (int k = 0; k < 2; ++k) {
+      for (int k = 0; k < m; ++k) {
         const double numeric = (rp[k] - rm[k]) / (2 * h);
         const double analytic = jac[b][k * 7 + i];
         worst = std::max(worst, std::abs(numeric - analytic) / std::max(1.0, std::abs(analytic)));
@@ -76,20 +69,86 @@ double WorstJacobianError(const ceres::CostFunction& cost, std::vector<PoseParam
   return worst;
 }
 
+}  // namespace
+
+TEST_CASE("View reprojection gives the exact residuals of the chain", "[cost]") {
+  const Camera camera = TestCamera();
+  const Chain c;
+  std::vector<Eigen::Vector2d> offsets;
+  const ViewPoints view = Offsets(camera, c, &offsets);
+  std::unique_ptr<ceres::CostFunction> plain(ViewReprojectionError::Create(camera, c.M, view, 0.0));
+  REQUIRE(plain->num_residuals() == 6);
+  PoseParams X = ToPoseParams(c.X), Z = ToPoseParams(c.Z);
+  const double* params[] = {X.data(), Z.data()};
+  double r[6];
+  REQUIRE(plain->Evaluate(params, r, nullptr));
+  for (size_t i = 0; i < offsets.size(); ++i) {
+    REQUIRE(r[2 * i] == Approx(offsets[i].x()).margin(1e-8));
+    REQUIRE(r[2 * i + 1] == Approx(offsets[i].y()).margin(1e-8));
+  }
+
+  // Cross term: T_camk_camt · X_t reproduces X_k.
+  std::unique_ptr<ceres::CostFunction> cross(ViewCrossReprojectionError::Create(camera, c.M, view, 0.0));
+  PoseParams T_kt = ToPoseParams(c.X * c.X_t.inverse()), Xt = ToPoseParams(c.X_t);
+  const double* cross_params[] = {T_kt.data(), Xt.data(), Z.data()};
+  REQUIRE(cross->Evaluate(cross_params, r, nullptr));
+  for (size_t i = 0; i < offsets.size(); ++i) {
+    REQUIRE(r[2 * i] == Approx(offsets[i].x()).margin(1e-7));
+    REQUIRE(r[2 * i + 1] == Approx(offsets[i].y()).margin(1e-7));
+  }
+}
+
+TEST_CASE("The robust residuals square to the per-point Cauchy cost", "[cost]") {
+  const Camera camera = TestCamera();
+  const Chain c;
+  std::vector<Eigen::Vector2d> offsets;
+  const ViewPoints view = Offsets(camera, c, &offsets);
+  for (double a : {0.5, 1.0, 4.0}) {
+    std::unique_ptr<ceres::CostFunction> robust(ViewReprojectionError::Create(camera, c.M, view, a));
+    PoseParams X = ToPoseParams(c.X), Z = ToPoseParams(c.Z);
+    const double* params[] = {X.data(), Z.data()};
+    double r[6];
+    REQUIRE(robust->Evaluate(params, r, nullptr));
+    for (size_t i = 0; i < offsets.size(); ++i) {
+      const double s = offsets[i].squaredNorm();
+      const double rho = a * a * std::log1p(s / (a * a));
+      REQUIRE(r[2 * i] * r[2 * i] + r[2 * i + 1] * r[2 * i + 1] == Approx(rho).epsilon(1e-12));
+      // Same direction as the plain residual.
+      REQUIRE(r[2 * i] * offsets[i].y() - r[2 * i + 1] * offsets[i].x() == Approx(0.0).margin(1e-9));
+    }
+  }
+}
+
 TEST_CASE("Cost functor derivatives agree with central differences", "[cost]") {
   const Camera camera = TestCamera();
-  const Eigen::Isometry3d X = MakeTransformFromRotationVector({0.1, -2.9, 0.2}, {0.3, 0.8, 2.1});
-  const Eigen::Isometry3d M = MakeTransformFromRotationVector({0.4, 0.2, -0.3}, {0.5, 0.1, 1.0});
-  const Eigen::Isometry3d Z = MakeTransformFromRotationVector({-0.2, 0.1, 0.0}, {0.0, 0.02, 0.1});
-  const Eigen::Isometry3d X_t = MakeTransformFromRotationVector({0.3, 2.0, -0.1}, {-0.5, 0.6, 2.5});
-  const Eigen::Vector3d p(0.08, 0.12, 0.0);
-  std::unique_ptr<ceres::CostFunction> rpj(ReprojectionError::Create(camera, M, p, {900, 500}));
-  const double rpj_error = WorstJacobianError(*rpj, {ToPoseParams(X), ToPoseParams(Z)});
-  INFO("reprojection: worst relative Jacobian error " << rpj_error);
-  REQUIRE(rpj_error < 1e-5);
-  std::unique_ptr<ceres::CostFunction> cross(CrossReprojectionError::Create(camera, M, p, {900, 500}));
-  const double cross_error =
-      WorstJacobianError(*cross, {ToPoseParams(X * X_t.inverse()), ToPoseParams(X_t), ToPoseParams(Z)});
-  INFO("cross: worst relative Jacobian error " << cross_error);
-  REQUIRE(cross_error < 1e-5);
+  const Chain c;
+  std::vector<Eigen::Vector2d> offsets;
+  const ViewPoints view = Offsets(camera, c, &offsets);
+  for (double a : {0.0, 1.0}) {
+    std::unique_ptr<ceres::CostFunction> rpj(ViewReprojectionError::Create(camera, c.M, view, a));
+    const double rpj_error = WorstJacobianError(*rpj, {ToPoseParams(c.X), ToPoseParams(c.Z)});
+    INFO("cauchy scale " << a << ", reprojection: worst relative Jacobian error " << rpj_error);
+    REQUIRE(rpj_error < 1e-5);
+    std::unique_ptr<ceres::CostFunction> cross(ViewCrossReprojectionError::Create(camera, c.M, view, a));
+    const double cross_error = WorstJacobianError(
+        *cross, {ToPoseParams(c.X * c.X_t.inverse()), ToPoseParams(c.X_t), ToPoseParams(c.Z)});
+    INFO("cross: worst relative Jacobian error " << cross_error);
+    REQUIRE(cross_error < 1e-5);
+  }
+}
+
+TEST_CASE("A residual of zero keeps finite derivatives under the robust loss", "[cost]") {
+  const Camera camera = TestCamera();
+  const Chain c;
+  ViewPoints view;
+  view.p_target = {{0.05, 0.05, 0.0}};
+  view.observed_px = {*camera.Project(c.X * c.M * c.Z * view.p_target[0])};
+  std::unique_ptr<ceres::CostFunction> robust(ViewReprojectionError::Create(camera, c.M, view, 1.0));
+  PoseParams X = ToPoseParams(c.X), Z = ToPoseParams(c.Z);
+  const double* params[] = {X.data(), Z.data()};
+  double r[2], jx[14], jz[14];
+  double* jac[] = {jx, jz};
+  REQUIRE(robust->Evaluate(params, r, jac));
+  for (double v : jx) REQUIRE(std::isfinite(v));
+  for (double v : jz) REQUIRE(std::isfinite(v));
 }
