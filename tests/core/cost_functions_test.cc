@@ -137,6 +137,44 @@ TEST_CASE("Cost functor derivatives agree with central differences", "[cost]") {
   }
 }
 
+// Largest |a − b| over residuals and Jacobians of two cost functions.
+double WorstDifference(const ceres::CostFunction& a, const ceres::CostFunction& b, std::vector<PoseParams> blocks) {
+  const int m = a.num_residuals();
+  std::vector<double*> params;
+  for (auto& block : blocks) params.push_back(block.data());
+  std::vector<double> ra(m), rb(m);
+  std::vector<std::vector<double>> ja(blocks.size(), std::vector<double>(m * 7)), jb = ja;
+  std::vector<double*> pa, pb;
+  for (size_t i = 0; i < blocks.size(); ++i) {
+    pa.push_back(ja[i].data());
+    pb.push_back(jb[i].data());
+  }
+  if (!a.Evaluate(params.data(), ra.data(), pa.data()) || !b.Evaluate(params.data(), rb.data(), pb.data()))
+    return 1e300;
+  double worst = 0;
+  for (int i = 0; i < m; ++i) worst = std::max(worst, std::abs(ra[i] - rb[i]));
+  for (size_t k = 0; k < blocks.size(); ++k)
+    for (int i = 0; i < m * 7; ++i) worst = std::max(worst, std::abs(ja[k][i] - jb[k][i]));
+  return worst;
+}
+
+TEST_CASE("Chain-rule derivatives equal autodiff over every parameter", "[cost]") {
+  const Camera camera = TestCamera();
+  const Chain c;
+  std::vector<Eigen::Vector2d> offsets;
+  const ViewPoints view = Offsets(camera, c, &offsets);
+  for (double a : {0.0, 1.0}) {
+    std::unique_ptr<ceres::CostFunction> fast(ViewReprojectionError::Create(camera, c.M, view, a));
+    std::unique_ptr<ceres::CostFunction> reference(ViewReprojectionError::CreateAutoDiff(camera, c.M, view, a));
+    REQUIRE(WorstDifference(*fast, *reference, {ToPoseParams(c.X), ToPoseParams(c.Z)}) < 1e-9);
+    std::unique_ptr<ceres::CostFunction> fast_cross(ViewCrossReprojectionError::Create(camera, c.M, view, a));
+    std::unique_ptr<ceres::CostFunction> reference_cross(
+        ViewCrossReprojectionError::CreateAutoDiff(camera, c.M, view, a));
+    REQUIRE(WorstDifference(*fast_cross, *reference_cross,
+                            {ToPoseParams(c.X * c.X_t.inverse()), ToPoseParams(c.X_t), ToPoseParams(c.Z)}) < 1e-9);
+  }
+}
+
 TEST_CASE("A residual of zero keeps finite derivatives under the robust loss", "[cost]") {
   const Camera camera = TestCamera();
   const Chain c;
