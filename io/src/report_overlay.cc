@@ -4,6 +4,7 @@
 // vectors coloured by size, the cross-camera predictions, the target's outline
 // and axes from the calibrated pose, a header and a legend.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -48,11 +49,22 @@ void Darken(cv::Mat* image, const cv::Rect& rect, double keep) {
   roi = keep * roi + (1.0 - keep) * kPanel;
 }
 
+// Where an original image pixel lands in a drawing: the image itself, or a
+// crop whose top-left pixel is `origin`, enlarged `zoom` times (as cv::resize
+// maps pixel centres: (u + 0.5)·zoom − 0.5).
+struct PixelMap {
+  Eigen::Vector2d origin = Eigen::Vector2d::Zero();
+  double zoom = 1;
+  cv::Point2d operator()(const Eigen::Vector2d& p) const {
+    return {(p.x() - origin.x() + 0.5) * zoom - 0.5, (p.y() - origin.y() + 0.5) * zoom - 0.5};
+  }
+};
+
 // Draws the target-plane polyline through the pose and the lens model:
 // straight edges on the target bend with distortion in the image.
-void DrawTargetCurve(cv::Mat* image, const Camera& camera, const Eigen::Isometry3d& T_cam_target,
-                     const Eigen::Vector3d& a, const Eigen::Vector3d& b, const cv::Scalar& color,
-                     int thickness) {
+void DrawTargetCurve(cv::Mat* image, const PixelMap& map, const Camera& camera,
+                     const Eigen::Isometry3d& T_cam_target, const Eigen::Vector3d& a,
+                     const Eigen::Vector3d& b, const cv::Scalar& color, int thickness) {
   constexpr int kSteps = 24;
   std::vector<cv::Point> run;
   auto flush = [&]() {
@@ -67,33 +79,39 @@ void DrawTargetCurve(cv::Mat* image, const Camera& camera, const Eigen::Isometry
       flush();
       continue;
     }
-    run.push_back(Fixed(uv->x(), uv->y()));
+    run.push_back(Fixed(map(*uv)));
   }
   flush();
 }
 
-void DrawTargetFrame(cv::Mat* image, const Camera& camera, const Target& target,
-                     const Eigen::Isometry3d& T, double ui) {
+// The sheet's corners in the target frame, in order around it.
+std::array<Eigen::Vector3d, 4> SheetCorners(const Target& target) {
   const Eigen::AlignedBox2d box = target.Extent();
+  std::array<Eigen::Vector3d, 4> corners;
+  const Eigen::AlignedBox2d::CornerType order[4] = {
+      Eigen::AlignedBox2d::BottomLeft, Eigen::AlignedBox2d::BottomRight,
+      Eigen::AlignedBox2d::TopRight, Eigen::AlignedBox2d::TopLeft};
+  for (int i = 0; i < 4; ++i) corners[i] << box.corner(order[i]), 0.0;
+  return corners;
+}
+
+void DrawTargetFrame(cv::Mat* image, const PixelMap& map, const Camera& camera,
+                     const Target& target, const Eigen::Isometry3d& T, double ui) {
   const int thick = std::max(1, static_cast<int>(std::lround(2 * ui)));
-  const Eigen::Vector2d c[4] = {
-      box.corner(Eigen::AlignedBox2d::BottomLeft), box.corner(Eigen::AlignedBox2d::BottomRight),
-      box.corner(Eigen::AlignedBox2d::TopRight), box.corner(Eigen::AlignedBox2d::TopLeft)};
+  const auto c = SheetCorners(target);
   for (int i = 0; i < 4; ++i)
-    DrawTargetCurve(image, camera, T, {c[i].x(), c[i].y(), 0},
-                    {c[(i + 1) % 4].x(), c[(i + 1) % 4].y(), 0}, kOutline, thick);
+    DrawTargetCurve(image, map, camera, T, c[i], c[(i + 1) % 4], kOutline, thick);
   // Axes from the target origin, half the sheet's shorter side long.
-  const double len = box.sizes().minCoeff() / 2.0;
-  const Eigen::Vector3d o(0, 0, 0);
+  const double len = target.Extent().sizes().minCoeff() / 2.0;
   const std::pair<Eigen::Vector3d, cv::Scalar> axes[3] = {{Eigen::Vector3d(len, 0, 0), kAxisX},
                                                           {Eigen::Vector3d(0, len, 0), kAxisY},
                                                           {Eigen::Vector3d(0, 0, len), kAxisZ}};
   const char* names[3] = {"x", "y", "z"};
-  const auto uv0 = camera.Project(T * o);
+  const auto uv0 = camera.Project(T * Eigen::Vector3d::Zero());
   for (int i = 0; i < 3; ++i) {
     const auto uv1 = camera.Project(T * axes[i].first);
     if (!uv0 || !uv1) continue;
-    const cv::Point2d p0(uv0->x(), uv0->y()), p1(uv1->x(), uv1->y());
+    const cv::Point2d p0 = map(*uv0), p1 = map(*uv1);
     DrawArrow(image, p0, p1, axes[i].second, thick + 1, 14 * ui);
     DrawText(image, names[i], p1 + (p1 - p0) * (10 * ui / std::max(1.0, cv::norm(p1 - p0))),
              16 * ui, axes[i].second, {0.5, 0.5}, thick);
@@ -268,6 +286,112 @@ cv::Scalar CameraColor(int camera) {
   return kPalette[camera % 10];
 }
 
+namespace {
+
+// The marks of a view through `map` onto `image`; `clean` is `image` before
+// any mark. Graphics under the marks (target frame, residual vectors,
+// cross-camera predictions) are cleared around each detected point, so rings
+// and crosses are drawn on the image alone: nothing hides them and their
+// anti-aliased edges do not mix with other colours (which would shift where
+// the eye, or a test, sees them).
+void DrawMarks(cv::Mat* image, const cv::Mat& clean, const ReportModel& model,
+               const ViewModel& view, const PixelMap& map, double ring, double magnification,
+               double ui) {
+  const Camera& camera = *model.cameras[view.camera].camera;
+  const Observation& obs = *view.observation;
+  const int thick = ui > 0.75 ? 2 : 1;
+  const int mark_thick = ring >= 10 ? thick : 1;
+  if (view.T_cam_target)
+    DrawTargetFrame(image, map, camera, *model.dataset->target, *view.T_cam_target, ui);
+  for (size_t i = 0; i < view.predicted_px.size(); ++i) {
+    if (!view.predicted_px[i]) continue;
+    const Eigen::Vector2d& p = *view.predicted_px[i];
+    const Eigen::Vector2d r = obs.points_px[i] - p;
+    cv::line(*image, Fixed(map(p)), Fixed(map(p + magnification * r)),
+             ResidualColor(r.norm(), model.residual_scale_max_px), thick, cv::LINE_AA, kShift);
+  }
+  // Cross-camera predictions: diamonds around the rings (twice as wide), so
+  // they show even when they coincide with the detections.
+  for (size_t c = 0; c < view.cross.size(); ++c)
+    for (const auto& uv : view.cross[c].predicted_px)
+      if (uv) DrawMarker(image, map(*uv), Marker::kDiamond, 2 * ring, kCrossColors[c % 4], 1);
+  cv::Mat keep_clear(image->size(), CV_8U, cv::Scalar(0));
+  for (const auto& d : obs.points_px)
+    cv::circle(keep_clear, Fixed(map(d)), static_cast<int>(std::lround((ring / 2 + 2) * kSubpixel)),
+               cv::Scalar(255), cv::FILLED, cv::LINE_8, kShift);
+  clean.copyTo(*image, keep_clear);
+  for (const auto& d : obs.points_px)
+    DrawMarker(image, map(d), Marker::kCircle, ring, kDetected, mark_thick);
+  for (const auto& uv : view.predicted_px)
+    if (uv) DrawMarker(image, map(*uv), Marker::kCross, 0.5 * ring, kReprojected, mark_thick);
+}
+
+// A small target gets an enlarged copy of its region in a free corner, so
+// its marks read in the overlay and in the thumbnail. The inset covers no
+// point of the view: it is placed clear of the target's region.
+void DrawZoomInset(cv::Mat* image, const cv::Mat& clean, const ReportModel& model,
+                   const ViewModel& view, double spacing, double magnification, double ui) {
+  const Camera& camera = *model.cameras[view.camera].camera;
+  Eigen::AlignedBox2d region;
+  for (const auto& d : view.observation->points_px) region.extend(d);
+  if (view.T_cam_target)
+    for (const auto& corner : SheetCorners(*model.dataset->target))
+      if (const auto uv = camera.Project(*view.T_cam_target * corner)) region.extend(*uv);
+  if (region.isEmpty()) return;
+  const cv::Rect whole(0, 0, image->cols, image->rows);
+  const double pad = 10 * ui;
+  const cv::Rect source =
+      cv::Rect(cv::Point(static_cast<int>(std::floor(region.min().x() - pad)),
+                         static_cast<int>(std::floor(region.min().y() - pad))),
+               cv::Point(static_cast<int>(std::ceil(region.max().x() + pad)) + 1,
+                         static_cast<int>(std::ceil(region.max().y() + pad)) + 1)) &
+      whole;
+  if (source.empty()) return;
+  // Up to 4×, in half steps, within 45 % of the width and 62 % of the height.
+  const double zoom = std::floor(2 * std::min({4.0, 0.45 * image->cols / source.width,
+                                               0.62 * image->rows / source.height})) /
+                      2;
+  if (zoom < 2) return;
+  // Scale factors given (not a size), so resize maps pixels exactly as PixelMap.
+  cv::Mat zoomed_clean;
+  cv::resize(clean(source), zoomed_clean, cv::Size(), zoom, zoom, cv::INTER_LINEAR);
+  const cv::Size size = zoomed_clean.size();
+  // Free corners: below the header band, right or left; bottom right (the
+  // legend is bottom left). Clear of the target by one point spacing.
+  const int margin = static_cast<int>(std::lround(12 * ui));
+  const int top = static_cast<int>(std::lround(0.12 * image->rows));
+  const cv::Rect keep_out(
+      source.x - static_cast<int>(spacing), source.y - static_cast<int>(spacing),
+      source.width + 2 * static_cast<int>(spacing), source.height + 2 * static_cast<int>(spacing));
+  const cv::Rect candidates[3] = {{image->cols - size.width - margin, top, size.width, size.height},
+                                  {image->cols - size.width - margin,
+                                   image->rows - size.height - margin, size.width, size.height},
+                                  {margin, top, size.width, size.height}};
+  for (const cv::Rect& at : candidates) {
+    if ((at & whole) != at || (at & keep_out).area() > 0) continue;
+    cv::Mat zoomed = zoomed_clean.clone();
+    PixelMap map;
+    map.origin = Eigen::Vector2d(source.x, source.y);
+    map.zoom = zoom;
+    DrawMarks(&zoomed, zoomed_clean, model, view, map,
+              std::clamp(0.5 * spacing * zoom, 7.0, 18 * ui), magnification, ui);
+    zoomed.copyTo((*image)(at));
+    cv::rectangle(*image, at, kText, 1);
+    cv::rectangle(*image, source, kText, 1);
+    char label[64];
+    std::snprintf(label, sizeof label, "target region x%g", zoom);
+    const double h = 13 * ui;
+    Darken(image,
+           cv::Rect(at.x, at.y, TextSize(label, h).width + static_cast<int>(12 * ui),
+                    static_cast<int>(2 * h)),
+           0.3);
+    DrawText(image, label, {at.x + 6 * ui, at.y + h}, h, kText, {0, 0.5});
+    return;
+  }
+}
+
+}  // namespace
+
 cv::Mat DrawOverlay(const ReportModel& model, const ViewModel& view, const cv::Mat& gray) {
   const Camera& camera = *model.cameras[view.camera].camera;
   cv::Mat dim;
@@ -280,54 +404,17 @@ cv::Mat DrawOverlay(const ReportModel& model, const ViewModel& view, const cv::M
   if (gray.empty())
     DrawText(&image, "no image in the dataset: marks only", {image.cols / 2.0, image.rows / 2.0},
              std::max(12.0, image.cols / 80.0), {200, 200, 200}, {0.5, 0.5});
-
-  // Marks scale with the image so they look alike on 640 and 4000 px images.
-  const double ui = std::max(0.55, image.cols / 1920.0);
-  const int thick = ui > 0.75 ? 2 : 1;
-  const Observation& obs = *view.observation;
-
-  // Rings at most half the point spacing wide, so neighbours stay apart;
-  // crosses fit inside the rings.
-  const double ring = std::clamp(0.5 * PointSpacing(obs.points_px), 7.0, 14 * ui);
-  const double cross = 0.5 * ring;
-  const int mark_thick = ring >= 10 ? thick : 1;
-
-  // Graphics under the marks: target frame, residual vectors, cross-camera
-  // predictions. They are
-  // then cleared around each detected point, so rings and crosses are drawn
-  // on the image alone: nothing hides them and their anti-aliased edges do not
-  // mix with other colours (which would shift where the eye sees them).
   const cv::Mat clean = image.clone();
-  if (view.T_cam_target)
-    DrawTargetFrame(&image, camera, *model.dataset->target, *view.T_cam_target, ui);
+
+  // Marks scale with the image so they look alike on 640 and 4000 px images;
+  // rings are at most half the point spacing wide, so neighbours stay apart.
+  const double ui = std::max(0.55, image.cols / 1920.0);
+  const double spacing = PointSpacing(view.observation->points_px);
+  const double ring = std::clamp(0.5 * spacing, 7.0, 14 * ui);
   // Residuals magnified so that the colour scale's maximum draws ~50 px long.
   const double magnification = std::max(1.0, NiceFloor(50.0 * ui / model.residual_scale_max_px));
-  for (size_t i = 0; i < view.predicted_px.size(); ++i) {
-    if (!view.predicted_px[i]) continue;
-    const Eigen::Vector2d& p = *view.predicted_px[i];
-    const Eigen::Vector2d r = obs.points_px[i] - p;
-    const Eigen::Vector2d tip = p + magnification * r;
-    cv::line(image, Fixed(p.x(), p.y()), Fixed(tip.x(), tip.y()),
-             ResidualColor(r.norm(), model.residual_scale_max_px), thick, cv::LINE_AA, kShift);
-  }
-  // Cross-camera predictions: diamonds around the rings (twice as wide), so
-  // they show even when they coincide with the detections.
-  for (size_t c = 0; c < view.cross.size(); ++c)
-    for (const auto& uv : view.cross[c].predicted_px)
-      if (uv)
-        DrawMarker(&image, {uv->x(), uv->y()}, Marker::kDiamond, 2 * ring, kCrossColors[c % 4], 1);
-  cv::Mat keep_clear(image.size(), CV_8U, cv::Scalar(0));
-  for (const auto& d : obs.points_px)
-    cv::circle(keep_clear, Fixed(d.x(), d.y()),
-               static_cast<int>(std::lround((ring / 2 + 2) * kSubpixel)), cv::Scalar(255),
-               cv::FILLED, cv::LINE_8, kShift);
-  clean.copyTo(image, keep_clear);
-
-  for (const auto& d : obs.points_px)
-    DrawMarker(&image, {d.x(), d.y()}, Marker::kCircle, ring, kDetected, mark_thick);
-  for (const auto& uv : view.predicted_px)
-    if (uv) DrawMarker(&image, {uv->x(), uv->y()}, Marker::kCross, cross, kReprojected, mark_thick);
-
+  DrawMarks(&image, clean, model, view, PixelMap{}, ring, magnification, ui);
+  if (std::isfinite(spacing)) DrawZoomInset(&image, clean, model, view, spacing, magnification, ui);
   DrawHeader(&image, model, view, ui);
   DrawLegend(&image, model, view, magnification, ui);
   return image;
