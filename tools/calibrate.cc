@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <algorithm>
 #include <memory>
+#include <thread>
 
 #include "commands.h"
 #include "handeye/core/calibration.h"
@@ -59,7 +61,7 @@ void RunCalibrate(const CalibrateArgs& args) {
   options.method = *method;
   options.cauchy_scale_px = args.cauchy_scale_px;
   options.cross_terms = !args.no_cross_terms;
-  options.threads = args.threads > 0 ? args.threads : 1;
+  options.threads = args.threads > 0 ? args.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::string why;
   if (!options.Check(&why)) throw InputError("", "", "invalid option: " + why);
   const std::filesystem::path out(args.output);
