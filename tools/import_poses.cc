@@ -138,7 +138,8 @@ void RegisterImportPoses(CLI::App& app) {
   cmd->add_option("--translation-unit", args->unit, "unit of x, y, z: m (default) or mm");
   cmd->add_option("--images", args->images,
                   "CAMERA=PATTERN, image path per pose with {id} replaced by the pose id, relative to the "
-                  "output's folder (repeat per camera)");
+                  "output's folder (repeat per camera)")
+      ->allow_extra_args(false);  // one value per --images, so POSES after it stays positional
   cmd->add_flag("--reorthonormalise", args->reorthonormalise,
                 "normalise quaternions that are not unit instead of rejecting them");
   cmd->callback([args]() { RunImportPoses(*args); });

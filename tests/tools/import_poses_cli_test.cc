@@ -38,9 +38,9 @@ TEST_CASE("import-poses writes a dataset from a CSV pose list and a template", "
                   "0002,450.5,-20,880,0,0,0.70710678118654757,0.70710678118654757\n");
   test::WriteText(dir + "/out/images/left/0001.png", "");
   std::string out;
-  REQUIRE(test::RunHandeye("import-poses " + dir + "/robot/poses.csv --template " + dir +
-                               "/template.json --translation-unit mm --images left=images/left/{id}.png -o " + dir +
-                               "/out/dataset.json",
+  // --images before POSES: each --images takes one value.
+  REQUIRE(test::RunHandeye("import-poses --images left=images/left/{id}.png " + dir + "/robot/poses.csv --template " +
+                               dir + "/template.json --translation-unit mm -o " + dir + "/out/dataset.json",
                            &out) == 0);
   INFO(out);
   CHECK_THAT(out, Contains("2 poses"));
