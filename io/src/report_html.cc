@@ -193,9 +193,10 @@ void CameraTables(const ReportModel& model, std::ostringstream& out) {
       << "largest angle between the rotation axes of those motions (hand-eye needs both large).";
   if (!model.closed_form_method.empty())
     out << " Closed form: " << Escape(model.closed_form_method)
-        << "'s per-camera hand-eye; Δ (px) is the mean image displacement of the detected points "
-           "between the two "
-           "solutions.";
+        << "'s per-camera hand-eye; Δ (px) is how far the camera's detected points move in the "
+           "image when seen from the closed form's camera pose instead of the result's (what the "
+           "data can tell apart; the mm and degrees include directions the images barely "
+           "constrain).";
   out << "</p>\n";
 }
 

@@ -56,7 +56,9 @@ struct ClosedFormComparison {
   std::string why_not;        ///< when not available
   double translation_mm = 0;  ///< |t_joint − t_closed| of T_base_cam / T_ee_cam
   double rotation_deg = 0;
-  double displacement_px = 0;  ///< mean image displacement of the detected points
+  /// Mean image displacement of the detected points seen from the closed
+  /// form's camera pose instead of the result's (see ReportOptions).
+  double displacement_px = 0;
 };
 
 struct CameraModel {
