@@ -47,6 +47,17 @@ OrderedJson ReadOrdered(const std::string& path) {
   return OrderedJson::parse(std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()));
 }
 
+// A path relative to `from_file`'s folder, made relative to `to_file`'s
+// folder (absolute when no relative path exists, e.g. another drive).
+std::string Rebase(const std::string& path, const std::string& from_file, const std::string& to_file) {
+  namespace fs = std::filesystem;
+  if (fs::path(path).is_absolute()) return path;
+  const fs::path absolute = fs::absolute(fs::path(from_file).parent_path() / path).lexically_normal();
+  const fs::path to_folder = fs::absolute(fs::path(to_file)).parent_path().lexically_normal();
+  const fs::path relative = absolute.lexically_relative(to_folder);
+  return relative.empty() ? absolute.generic_string() : relative.generic_string();
+}
+
 void RunImportPoses(const ImportPosesArgs& args) {
   if (args.unit != "m" && args.unit != "mm")
     throw InputError("", "", "--translation-unit: expected m or mm, got '" + args.unit + "'");
@@ -91,6 +102,12 @@ void RunImportPoses(const ImportPosesArgs& args) {
   }
 
   OrderedJson out = ReadOrdered(args.template_path);
+  // Intrinsics files are referenced relative to the template; the dataset
+  // may be written elsewhere.
+  for (auto& camera : out["cameras"])
+    if (camera.contains("intrinsics_file"))
+      camera["intrinsics_file"]["path"] =
+          Rebase(camera["intrinsics_file"]["path"].get<std::string>(), args.template_path, args.output);
   OrderedJson poses = OrderedJson::array();
   for (const PoseRow& row : rows) {
     OrderedJson pose = OrderedJson::object();

@@ -4,6 +4,7 @@
 // from the ids; bad input exits 2 naming the file and line.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -62,6 +63,30 @@ TEST_CASE("import-poses writes a dataset from a CSV pose list and a template", "
   std::vector<std::string> keys;
   for (const auto& item : written.items()) keys.push_back(item.key());
   CHECK(keys == std::vector<std::string>{"format", "setup", "target", "cameras", "poses"});
+}
+
+TEST_CASE("import-poses keeps a template's intrinsics files found from the output's folder", "[cli][import-poses]") {
+  const std::string dir = test::TempDir("import_poses_cli_intrinsics");
+  nlohmann::json templ = nlohmann::json::parse(kTemplate);
+  templ["cameras"][0].erase("intrinsics");
+  templ["cameras"][0].erase("distortion");
+  templ["cameras"][0]["intrinsics_file"] = {{"path", "calib/left.yaml"}, {"format", "ros"}};
+  test::WriteText(dir + "/setup/template.json", templ.dump(2));
+  test::WriteText(dir + "/setup/calib/left.yaml",
+                  "K: [600.5, 0, 320, 0, 601.5, 240, 0, 0, 1]\nD: [0.1, -0.2, 0, 0, 0]\n"
+                  "distortion_model: plumb_bob\nwidth: 640\nheight: 480\n");
+  test::WriteText(dir + "/poses.csv", "id,x,y,z,qx,qy,qz,qw\n1,0,0,0,0,0,0,1\n");
+  std::filesystem::create_directories(dir + "/out");
+  std::string out;
+  REQUIRE(test::RunHandeye("import-poses " + dir + "/poses.csv --template " + dir + "/setup/template.json -o " + dir +
+                               "/out/dataset.json",
+                           &out) == 0);
+  INFO(out);
+  const Dataset d = LoadDataset(dir + "/out/dataset.json");
+  CHECK(d.cameras[0].fx() == 600.5);
+  CHECK(d.cameras[0].Distortion() == std::vector<double>{0.1, -0.2, 0, 0, 0});
+  std::ifstream in(dir + "/out/dataset.json");
+  CHECK(nlohmann::json::parse(in)["cameras"][0]["intrinsics_file"]["path"] == "../setup/calib/left.yaml");
 }
 
 TEST_CASE("import-poses exits 2 on bad input, naming the file and where", "[cli][import-poses]") {
