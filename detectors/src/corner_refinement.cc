@@ -10,18 +10,31 @@
 namespace handeye::internal {
 
 std::optional<Eigen::Vector2d> RefineXCorner(const cv::Mat& gray, const Eigen::Vector2d& guess,
-                                             double radius_px, double max_shift_px) {
-  if (!guess.allFinite() || radius_px <= 0) return std::nullopt;
-  // Pixels the disc can reach while the estimate stays within max_shift_px,
-  // plus one for the gradient stencil.
-  const double reach = radius_px + max_shift_px + 1.0;
-  const int x0 = std::max(1, static_cast<int>(std::floor(guess.x() - reach)));
-  const int y0 = std::max(1, static_cast<int>(std::floor(guess.y() - reach)));
-  const int x1 = std::min(gray.cols - 2, static_cast<int>(std::ceil(guess.x() + reach)));
-  const int y1 = std::min(gray.rows - 2, static_cast<int>(std::ceil(guess.y() + reach)));
+                                             const Eigen::Matrix2d& window, double max_shift_px,
+                                             const std::function<bool(int x, int y)>& keep) {
+  if (!guess.allFinite() || !window.allFinite()) return std::nullopt;
+  const Eigen::JacobiSVD<Eigen::Matrix2d> svd(window);
+  const double widest_px = svd.singularValues()(0), narrowest_px = svd.singularValues()(1);
+  // Below a pixel across, the window holds no gradient pattern; beyond
+  // 100 px the caller's scale estimate broke down.
+  if (!(narrowest_px >= 1.0 && widest_px <= 100) || !(max_shift_px >= 0 && max_shift_px <= 100))
+    return std::nullopt;
+  const Eigen::Matrix2d to_unit = window.inverse();
+  // Pixels the window can reach while the estimate stays within
+  // max_shift_px, plus one for the gradient stencil; clamped in floating
+  // point, so a guess far outside the image cannot overflow the bounds.
+  const double reach = widest_px + max_shift_px + 1.0;
+  auto clamp_to = [](double v, int lo, int hi) {
+    return static_cast<int>(std::clamp(v, static_cast<double>(lo), static_cast<double>(hi)));
+  };
+  const int x0 = clamp_to(std::floor(guess.x() - reach), 1, gray.cols - 2);
+  const int y0 = clamp_to(std::floor(guess.y() - reach), 1, gray.rows - 2);
+  const int x1 = clamp_to(std::ceil(guess.x() + reach), 1, gray.cols - 2);
+  const int y1 = clamp_to(std::ceil(guess.y() + reach), 1, gray.rows - 2);
   if (x1 - x0 < 2 || y1 - y0 < 2) return std::nullopt;
   const int w = x1 - x0 + 1, h = y1 - y0 + 1;
-  // 3×3 Sobel gradients at pixel centres (integer coordinates).
+  // 3×3 Sobel gradients at pixel centres (integer coordinates); pixels left
+  // out get no gradient.
   std::vector<float> gx(static_cast<std::size_t>(w) * h), gy(gx.size());
   for (int y = y0; y <= y1; ++y) {
     const auto* up = gray.ptr<std::uint8_t>(y - 1);
@@ -29,6 +42,10 @@ std::optional<Eigen::Vector2d> RefineXCorner(const cv::Mat& gray, const Eigen::V
     const auto* down = gray.ptr<std::uint8_t>(y + 1);
     for (int x = x0; x <= x1; ++x) {
       const std::size_t k = static_cast<std::size_t>(y - y0) * w + (x - x0);
+      if (keep && !keep(x, y)) {
+        gx[k] = gy[k] = 0.0f;
+        continue;
+      }
       gx[k] = static_cast<float>((up[x + 1] - up[x - 1]) + 2 * (mid[x + 1] - mid[x - 1]) +
                                  (down[x + 1] - down[x - 1]));
       gy[k] = static_cast<float>((down[x - 1] - up[x - 1]) + 2 * (down[x] - up[x]) +
@@ -36,25 +53,24 @@ std::optional<Eigen::Vector2d> RefineXCorner(const cv::Mat& gray, const Eigen::V
     }
   }
 
-  const double sigma = 0.5 * radius_px;
-  const double inv_two_sigma2 = 1.0 / (2.0 * sigma * sigma);
+  // Gaussian weight of σ = half the window, in the window's unit coordinates.
+  constexpr double kInvTwoSigma2 = 1.0 / (2.0 * 0.5 * 0.5);
   Eigen::Vector2d c = guess;
   for (int iter = 0; iter < 40; ++iter) {
     Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
     Eigen::Vector2d b = Eigen::Vector2d::Zero();
-    const int ux0 = std::max(x0, static_cast<int>(std::floor(c.x() - radius_px)));
-    const int ux1 = std::min(x1, static_cast<int>(std::ceil(c.x() + radius_px)));
-    const int uy0 = std::max(y0, static_cast<int>(std::floor(c.y() - radius_px)));
-    const int uy1 = std::min(y1, static_cast<int>(std::ceil(c.y() + radius_px)));
+    const int ux0 = std::max(x0, static_cast<int>(std::floor(c.x() - widest_px)));
+    const int ux1 = std::min(x1, static_cast<int>(std::ceil(c.x() + widest_px)));
+    const int uy0 = std::max(y0, static_cast<int>(std::floor(c.y() - widest_px)));
+    const int uy1 = std::min(y1, static_cast<int>(std::ceil(c.y() + widest_px)));
     for (int y = uy0; y <= uy1; ++y) {
-      const double dy = y - c.y();
       for (int x = ux0; x <= ux1; ++x) {
-        const double dx = x - c.x();
-        const double r2 = dx * dx + dy * dy;
-        if (r2 > radius_px * radius_px) continue;
+        const Eigen::Vector2d u = to_unit * (Eigen::Vector2d(x, y) - c);
+        const double r2 = u.squaredNorm();
+        if (r2 > 1.0) continue;
         const std::size_t k = static_cast<std::size_t>(y - y0) * w + (x - x0);
         const double g0 = gx[k], g1 = gy[k];
-        const double wgt = std::exp(-r2 * inv_two_sigma2);
+        const double wgt = std::exp(-r2 * kInvTwoSigma2);
         const double a00 = wgt * g0 * g0, a01 = wgt * g0 * g1, a11 = wgt * g1 * g1;
         A(0, 0) += a00;
         A(0, 1) += a01;
@@ -83,11 +99,13 @@ std::optional<EdgeLine> FitEdge(const cv::Mat& gray, const Eigen::Vector2d& from
                                 const Eigen::Vector2d& to, double extend_px, double skip_px,
                                 double half_width_px) {
   const double length = (to - from).norm();
-  if (!(length > 0) || !from.allFinite() || !to.allFinite()) return std::nullopt;
+  if (!(length > 0 && length < 1e5) || !from.allFinite() || !to.allFinite() ||
+      !(half_width_px > 0 && half_width_px < 100) || !(extend_px >= 0 && extend_px < 1e5))
+    return std::nullopt;
   Eigen::Vector2d along = (to - from) / length;
   EdgeLine line{Eigen::Vector2d(-along.y(), along.x()), 0.0};
   line.offset = line.normal.dot(from);
-  for (int iter = 0; iter < 5; ++iter) {
+  for (int iter = 0; iter < 30; ++iter) {
     // The band's corners bound the pixels to visit.
     const Eigen::Vector2d base = from - line.normal * (line.normal.dot(from) - line.offset);
     const Eigen::Vector2d ends[2] = {base - extend_px * along, base + (length + extend_px) * along};
@@ -103,10 +121,14 @@ std::optional<EdgeLine> FitEdge(const cv::Mat& gray, const Eigen::Vector2d& from
     }
     // Clipped to the image (less the gradient stencil's rim): an edge that
     // runs out of the image is fitted on the part inside.
-    const int x0 = std::max(1, static_cast<int>(std::floor(umin)));
-    const int x1 = std::min(gray.cols - 2, static_cast<int>(std::ceil(umax)));
-    const int y0 = std::max(1, static_cast<int>(std::floor(vmin)));
-    const int y1 = std::min(gray.rows - 2, static_cast<int>(std::ceil(vmax)));
+    auto clamp_to = [](double v, int lo, int hi) {
+      return static_cast<int>(std::clamp(v, static_cast<double>(lo), static_cast<double>(hi)));
+    };
+    const int x0 = clamp_to(std::floor(umin), 1, gray.cols - 2);
+    const int x1 = clamp_to(std::ceil(umax), 1, gray.cols - 2);
+    const int y0 = clamp_to(std::floor(vmin), 1, gray.rows - 2);
+    const int y1 = clamp_to(std::ceil(vmax), 1, gray.rows - 2);
+    if (x1 <= x0 || y1 <= y0) return std::nullopt;
     double weight_sum = 0;
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
     Eigen::Matrix2d second = Eigen::Matrix2d::Zero();

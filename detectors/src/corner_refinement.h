@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <opencv2/core/mat.hpp>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -14,13 +15,24 @@ namespace handeye::internal {
 /// Refines an X junction near `guess` (pixels, centre of the top-left pixel at
 /// (0, 0), SPEC §2) in an 8-bit grey image. Every edge through the junction
 /// has its gradient orthogonal to (p − c), so c solves
-/// Σ w(p) g gᵀ (p − c) = 0 over a disc of `radius_px` with Gaussian weights,
-/// iterated on the image's own pixel grid (no resampling). `radius_px` must
-/// keep other edges (marker and tag borders, bits) out of the disc: they pull
-/// the estimate. nullopt when the gradients do not pin a point down or the
-/// estimate leaves `max_shift_px` of the guess.
+/// Σ w(p) g gᵀ (p − c) = 0 over a window with Gaussian weights, iterated on
+/// the image's own pixel grid (no resampling). The window is the ellipse
+/// {c + W u : |u| ≤ 1}: the image of a disc on the target under the local
+/// map, so that a foreshortened view keeps other edges (marker and tag
+/// borders, bits) out of it in every direction; they would pull the estimate.
+/// nullopt when the gradients do not pin a point down or the estimate leaves
+/// `max_shift_px` of the guess.
+/// `keep(x, y)`, when given, leaves out pixels it rejects (e.g. those on a
+/// marker next to the corner, so the window can reach along the edges past it).
 std::optional<Eigen::Vector2d> RefineXCorner(const cv::Mat& gray, const Eigen::Vector2d& guess,
-                                             double radius_px, double max_shift_px);
+                                             const Eigen::Matrix2d& window, double max_shift_px,
+                                             const std::function<bool(int x, int y)>& keep = {});
+
+/// The same with a round window of `radius_px`.
+inline std::optional<Eigen::Vector2d> RefineXCorner(const cv::Mat& gray, const Eigen::Vector2d& guess,
+                                                    double radius_px, double max_shift_px) {
+  return RefineXCorner(gray, guess, radius_px * Eigen::Matrix2d::Identity(), max_shift_px);
+}
 
 /// A straight edge n·p = c (|n| = 1), pixels.
 struct EdgeLine {

@@ -28,7 +28,8 @@ TargetPlugin CharucoPlugin();
 /// Why a corner interpolated by OpenCV was left out (see CharucoDetector).
 struct CharucoRejection {
   int corner_id = 0;
-  /// "refinement" (no X junction found near it), "homography" (the two
+  /// "refinement" (no X junction found near it, or its squares are too
+  /// foreshortened to look for one), "homography" (the two
   /// markers around it disagree with each other, or the refined corner with
   /// their local homography).
   std::string reason;
