@@ -1,0 +1,258 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// ChArUco plugin: the print agrees with OpenCV 4.6's own drawing, and the
+// detector finds the corners of rendered views (with lens-free pinhole
+// cameras, clutter, blur and noise) accurately, with no wrong ids.
+#include <catch2/catch.hpp>
+#include <opencv2/aruco/charuco.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "detectors/rendered_views.h"
+#include "handeye/core/error.h"
+#include "handeye/detectors/charuco_detector.h"
+#include "handeye/detectors/registry.h"
+
+using namespace handeye;
+
+namespace {
+
+constexpr double kSquareM = 0.055, kMarkerM = 0.04;
+
+TargetSpec BoardSpec(int sx = 7, int sy = 5, const std::string& dictionary = "DICT_5X5_100") {
+  TargetSpec spec;
+  spec.type = "charuco";
+  spec.values["squares"] = std::vector<double>{double(sx), double(sy)};
+  spec.values["square_size_m"] = kSquareM;
+  spec.values["marker_size_m"] = kMarkerM;
+  spec.values["dictionary"] = dictionary;
+  return spec;
+}
+
+/// The two markers' corners that identify a ChArUco corner.
+test::IdentifyingCorners MarkersOf(const CharucoTarget& board) {
+  return [&board](int id) {
+    std::vector<Eigen::Vector3d> corners;
+    for (int marker : board.MarkersAtCorner(id))
+      for (const auto& p : board.MarkerCorners(marker)) corners.push_back(p);
+    return corners;
+  };
+}
+
+test::ViewSampling Sampling(double min_px, double max_px) {
+  test::ViewSampling sampling;
+  sampling.feature_m = kMarkerM;
+  sampling.min_feature_px = min_px;
+  sampling.max_feature_px = max_px;
+  return sampling;
+}
+
+// Wrong id: farther from its true corner than a quarter of the smallest
+// square (20 px markers: 27 px squares); scoring margin: 6 px.
+constexpr double kWrongPx = 3.0, kBorderPx = 6.0;
+
+}  // namespace
+
+TEST_CASE("ArUco code books are the markers cv::aruco::drawMarker draws", "[charuco]") {
+  const std::vector<std::string> names = ArucoDictionaryNames();
+  REQUIRE(names.size() == 21);
+  for (std::size_t index = 0; index < names.size(); ++index) {
+    // OpenCV numbers its predefined dictionaries in this order (DICT_4X4_50 = 0).
+    INFO(names[index]);
+    const MarkerCodebook book = ArucoCodebook(names[index]);
+    REQUIRE(book.Valid());
+    const auto dictionary = cv::aruco::getPredefinedDictionary(static_cast<int>(index));
+    REQUIRE(book.bits == dictionary->markerSize);
+    REQUIRE(static_cast<int>(book.codes.size()) == dictionary->bytesList.rows);
+    const int n = book.bits, cell = 10;
+    for (int id : {0, 1, static_cast<int>(book.codes.size()) - 1}) {
+      cv::Mat drawn;
+      cv::aruco::drawMarker(dictionary, id, (n + 2) * cell, drawn, 1);
+      for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c)
+          CHECK((drawn.at<std::uint8_t>((r + 1) * cell + cell / 2, (c + 1) * cell + cell / 2) > 127) ==
+                (book.codes[id][r * n + c] == 1));
+    }
+  }
+}
+
+TEST_CASE("charuco print matches cv::aruco::CharucoBoard::draw of OpenCV 4.6", "[charuco]") {
+  // 5x4 squares: an even row count, where pre-4.6 boards differ.
+  for (const auto& [sx, sy] : {std::pair<int, int>{5, 4}, {7, 5}}) {
+    INFO(sx << "x" << sy);
+    const auto board = MakeCharucoTarget(BoardSpec(sx, sy, "DICT_4X4_50"));
+    const auto cv_board = cv::aruco::CharucoBoard::create(
+        sx, sy, static_cast<float>(kSquareM), static_cast<float>(kMarkerM),
+        cv::aruco::getPredefinedDictionary(cv::aruco::DICT_4X4_50));
+    constexpr int kPxPerSquare = 110;
+    cv::Mat drawn;
+    cv_board->draw(cv::Size(sx * kPxPerSquare, sy * kPxPerSquare), drawn, 0, 1);
+    int mismatched = 0, interior = 0;
+    const double pitch = kSquareM / kPxPerSquare;
+    const double cell = kMarkerM / 6;  // 4 bits + border
+    for (int r = 0; r < drawn.rows; ++r) {
+      for (int c = 0; c < drawn.cols; ++c) {
+        const double x = (c + 0.5) * pitch, y = (r + 0.5) * pitch;
+        // Skip pixels within 1.5 px of a square or marker-cell boundary,
+        // where OpenCV's integer drawing rounds.
+        auto near = [&](double v, double period, double offset) {
+          const double t = std::fmod(v - offset + 100 * period, period);
+          return std::min(t, period - t) < 1.5 * pitch;
+        };
+        // Cell boundaries repeat within each square, from the marker's edge.
+        const double margin = 0.5 * (kSquareM - kMarkerM);
+        const double x_in = std::fmod(x, kSquareM) - margin, y_in = std::fmod(y, kSquareM) - margin;
+        if (near(x, kSquareM, 0) || near(y, kSquareM, 0) || near(x_in, cell, 0) || near(y_in, cell, 0))
+          continue;
+        ++interior;
+        mismatched += (board->Albedo(x, y) > 0.5) != (drawn.at<std::uint8_t>(r, c) > 127);
+      }
+    }
+    CHECK(interior > static_cast<int>(drawn.total() / 2));
+    CHECK(mismatched == 0);
+  }
+}
+
+TEST_CASE("charuco and aprilgrid are registered target plugins", "[charuco][registry]") {
+  const auto types = KnownTargetTypes();
+  CHECK(std::find(types.begin(), types.end(), "charuco") != types.end());
+  const auto target = MakeTarget(BoardSpec());
+  CHECK(dynamic_cast<const CharucoTarget*>(target.get()));
+  CHECK(dynamic_cast<const CharucoDetector*>(MakeDetector(target).get()));
+}
+
+TEST_CASE("charuco spec errors: unknown dictionary lists OpenCV's, too small a dictionary",
+          "[charuco]") {
+  auto error_of = [](const TargetSpec& spec) -> std::string {
+    try {
+      MakeTarget(spec);
+    } catch (const InputError& e) {
+      return e.json_path() + ": " + e.expected();
+    }
+    return "";
+  };
+  CHECK_THAT(error_of(BoardSpec(7, 5, "DICT_5X5_99")),
+             Catch::Contains("/dictionary") && Catch::Contains("DICT_APRILTAG_36h11"));
+  CHECK_THAT(error_of(BoardSpec(11, 11, "DICT_4X4_50")), Catch::Contains("needs 60 markers"));
+  TargetSpec no_dictionary = BoardSpec();
+  no_dictionary.values.erase("dictionary");
+  CHECK_THAT(error_of(no_dictionary), Catch::Contains("/dictionary"));
+}
+
+TEST_CASE("charuco corners at 1280x720 and 1920x1080: >= 99 % found, mean error <= 0.1 px",
+          "[charuco][accuracy]") {
+  const auto board = MakeCharucoTarget(BoardSpec());
+  const CharucoDetector detector(board);
+  RenderOptions render;
+  for (const auto& [width, height] : {std::pair<int, int>{1280, 720}, {1920, 1080}}) {
+    INFO(width << "x" << height);
+    const Camera camera = test::PinholeCamera(width, height, 0.714 * width);
+    const test::Score score = test::RenderAndScore(camera, *board, detector, MarkersOf(*board),
+                                                   Sampling(20, 40), render, 12, width, kBorderPx,
+                                                   kWrongPx, 8);
+    INFO(score.Summary());
+    CHECK(score.expected > 100);
+    CHECK(score.Rate() >= 0.99);
+    CHECK(score.MeanError() <= 0.1);
+    CHECK(score.wrong == 0);
+  }
+}
+
+TEST_CASE("charuco partial views: half the board outside the image, ids still right",
+          "[charuco][partial]") {
+  // A 10x8 board, so that half of it still holds a good number of corners.
+  const auto board = MakeCharucoTarget(BoardSpec(10, 8));
+  const CharucoDetector detector(board);
+  const Camera camera = test::PinholeCamera(1280, 720, 900);
+  const double distance = 900 * kMarkerM / 30;  // 30 px markers
+  test::Score score;
+  int views = 0;
+  // The sheet's centre on each edge of the image, turned a little.
+  for (const auto& [u, v] : {std::pair<double, double>{0, 360}, {1279, 360}, {640, 0}, {640, 719}}) {
+    const Eigen::Isometry3d T = test::ViewAt(camera, *board, u, v, distance, 0.1 * views, 0.2);
+    RenderOptions render;
+    render.seed = 40 + views++;
+    const auto detection = detector.Detect(RenderView(camera, *board, T, render));
+    REQUIRE(detection);
+    CHECK(detection->ids.size() >= 12);
+    CHECK(detection->ids.size() <= board->Points().size() / 2 + 9);
+    test::ScoreView(camera, *board, T, MarkersOf(*board), detection, 20, kBorderPx, 0.5, 8, &score);
+  }
+  INFO(score.Summary());
+  CHECK(score.wrong == 0);  // every id within 0.5 px of its true corner
+  CHECK(score.Rate() >= 0.99);
+}
+
+TEST_CASE("charuco: no wrong ids over 200 rendered 640x480 views", "[charuco][ids]") {
+  const auto board = MakeCharucoTarget(BoardSpec());
+  const CharucoDetector detector(board);
+  const Camera camera = test::PinholeCamera(640, 480, 0.714 * 640);
+  test::ViewSampling sampling = Sampling(14, 60);  // also below 20 px, where misreads would start
+  sampling.max_tilt_deg = 60;
+  sampling.centre_beyond_border = 0.3;
+  const test::Score score = test::RenderAndScore(camera, *board, detector, MarkersOf(*board), sampling,
+                                                 RenderOptions(), 200, 2024, kBorderPx, kWrongPx, 8);
+  INFO(score.Summary());
+  CHECK(score.views_detected >= 40);
+  CHECK(score.found >= 400);
+  CHECK(score.wrong == 0);
+  CHECK(score.Rate() >= 0.99);
+}
+
+TEST_CASE("charuco: corners next to misplaced markers fail the local homography and are left out",
+          "[charuco][homography]") {
+  // A misprinted board, markers 2 and 12 swapped: OpenCV's interpolation puts
+  // the corners around them (and their neighbours) in the wrong place, as
+  // OpenCV 4.6 also does on its own (opencv_contrib issues 3301, 3367). The
+  // two markers of such a corner do not fit one homography.
+  const auto board = MakeCharucoTarget(BoardSpec());
+  MarkerCodebook swapped = board->dictionary();
+  std::swap(swapped.codes[2], swapped.codes[12]);
+  const CharucoTarget misprint(BoardSpec(), swapped);
+  const CharucoDetector detector(board);
+  const Camera camera = test::PinholeCamera(1280, 720, 900);
+  int rejected_homography = 0;
+  test::Score score;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Isometry3d T = test::ViewAt(camera, misprint, 640 + 40 * k, 360, 900 * kMarkerM / 35,
+                                             0.4 * k, 0.2 * k);
+    RenderOptions render;
+    render.seed = 70 + k;
+    std::vector<CharucoRejection> rejected;
+    const auto detection = detector.Detect(RenderView(camera, misprint, T, render), &rejected);
+    for (const auto& r : rejected) rejected_homography += r.reason == "homography";
+    test::ScoreView(camera, *board, T, MarkersOf(*board), detection, 20, kBorderPx, 1.0, 8, &score);
+  }
+  INFO(score.Summary());
+  CHECK(rejected_homography >= 4);
+  CHECK(score.wrong == 0);
+  // Corners away from the swapped markers are still found.
+  CHECK(score.found >= 4 * 16);
+}
+
+TEST_CASE("charuco: corners all on one line are no view; min_corners from the target",
+          "[charuco]") {
+  const Camera camera = test::PinholeCamera(1280, 720, 900);
+  RenderOptions render;
+  {
+    // 8x2 squares: seven corners, all on one line.
+    TargetSpec spec = BoardSpec(8, 2);
+    spec.values["min_corners"] = 4.0;
+    const auto strip = MakeCharucoTarget(spec);
+    const CharucoDetector detector(strip);
+    const auto T = test::ViewAt(camera, *strip, 640, 360, 900 * kMarkerM / 35, 0.1, 0.1);
+    std::vector<CharucoRejection> rejected;
+    CHECK_FALSE(detector.Detect(RenderView(camera, *strip, T, render), &rejected));
+    CHECK(rejected.empty());  // found, refined and consistent, but collinear
+  }
+  {
+    TargetSpec spec = BoardSpec();
+    spec.values["min_corners"] = 25.0;  // more than the 24 on the board
+    const auto board = MakeCharucoTarget(spec);
+    const auto T = test::ViewAt(camera, *board, 640, 360, 900 * kMarkerM / 35, 0.1, 0.1);
+    const cv::Mat image = RenderView(camera, *board, T, render);
+    CHECK_FALSE(CharucoDetector(board).Detect(image));
+    CharucoDetector::Options options;
+    const auto detection = CharucoDetector(board, options).Detect(image);
+    REQUIRE(detection);
+    CHECK(detection->ids.size() == 24);
+  }
+}
