@@ -12,21 +12,11 @@
 #include "commands.h"
 #include "handeye/core/error.h"
 #include "handeye/core/synthetic.h"
-#include "handeye/detectors/registry.h"
 #include "handeye/io/simulation.h"
+#include "target_options.h"
 
 namespace handeye::tools {
 namespace {
-
-// Default board: 7×4 inner corners of 40 mm. cols + rows is odd, so it is not
-// 180°-ambiguous; its 8×5 squares (320 × 200 mm, 400 × 280 mm with the white
-// margin) fit on an A3 sheet, compact enough to carry on a flange without
-// collisions; and a 40 mm square still spans ≈ 18 px at 4 m in the large cell.
-constexpr int kDefaultCols = 7, kDefaultRows = 4;
-constexpr double kDefaultSquareM = 0.04;
-// METRIC's A4 board: 4×3 inner corners, 50 mm.
-constexpr int kMetricCols = 4, kMetricRows = 3;
-constexpr double kMetricSquareM = 0.05;
 
 struct SimulateArgs {
   std::string outdir;
@@ -34,10 +24,7 @@ struct SimulateArgs {
   std::string preset;
   int cameras = 4;
   int poses = 20;
-  std::string target = "checkerboard";
-  std::string board;
-  double square_m = 0;
-  bool square_given = false;
+  TargetOptions target;
   std::string setup = "eye_to_hand";
   std::uint64_t seed = 1;
   double pose_noise_mm = 0;
@@ -92,31 +79,9 @@ SceneOptions MakeSceneOptions(const SimulateArgs& args) {
   return options;
 }
 
-std::shared_ptr<const Target> MakeSimulatedTarget(const SimulateArgs& args, bool metric) {
-  TargetSpec spec;
-  spec.type = args.target;
-  if (args.target == "checkerboard") {
-    int cols = metric ? kMetricCols : kDefaultCols, rows = metric ? kMetricRows : kDefaultRows;
-    if (!args.board.empty())
-      std::tie(cols, rows) = ParsePair("--board", args.board, "COLSxROWS inner corners");
-    spec.values["inner_corners"] = std::vector<double>{double(cols), double(rows)};
-    spec.values["square_size_m"] =
-        args.square_given ? args.square_m : metric ? kMetricSquareM : kDefaultSquareM;
-  } else if (!args.board.empty() || args.square_given) {
-    throw BadOption("--board", "expected --board and --square only with --target checkerboard");
-  }
-  try {
-    return MakeTarget(spec);
-  } catch (const InputError& e) {
-    throw InputError("", "--target" + e.json_path(), e.expected());
-  }
-}
-
 void RunSimulate(const SimulateArgs& args) {
   const SceneOptions scene_options = MakeSceneOptions(args);
-  if (args.square_given && !(std::isfinite(args.square_m) && args.square_m > 0))
-    throw BadOption("--square", "expected a positive square size in metres");
-  const auto target = MakeSimulatedTarget(args, scene_options.cell == "metric-medium");
+  const auto target = MakeTargetFromOptions(args.target, scene_options.cell == "metric-medium");
   PrintWarnings(target->Warnings());
 
   RenderOptions render;
@@ -166,9 +131,10 @@ void RegisterSimulate(CLI::App& app) {
                   "metric-medium: METRIC's synthetic medium cell (4 cameras, fx 1371.02, 4x3 board of 50 mm)");
   cmd->add_option("--cameras", args->cameras, "number of cameras (1..64)");
   cmd->add_option("--poses", args->poses, "number of robot poses");
-  cmd->add_option("--target", args->target, "target type (default checkerboard)");
-  cmd->add_option("--board", args->board, "checkerboard inner corners COLSxROWS (default 7x4; metric-medium 4x3)");
-  cmd->add_option("--square", args->square_m, "checkerboard square size in metres (default 0.04; metric-medium 0.05)");
+  cmd->add_option("--target", args->target.type,
+                  "target type: checkerboard (default), charuco or aprilgrid; each has a default sheet "
+                  "(metric-medium: METRIC's 4x3 checkerboard of 50 mm)");
+  AddTargetOptions(cmd, &args->target);
   cmd->add_option("--setup", args->setup, "eye_to_hand (default) or eye_in_hand");
   cmd->add_option("--seed", args->seed, "random seed; the same seed gives the same dataset");
   cmd->add_option("--pose-noise-mm", args->pose_noise_mm, "robot translation noise sigma per axis (mm) on the reported poses");
@@ -178,10 +144,7 @@ void RegisterSimulate(CLI::App& app) {
   cmd->add_option("--noise", args->noise, "sensor noise sigma in grey levels (default 2)");
   cmd->add_option("--threads", args->threads, "rendering threads (0 = all cores)");
   cmd->add_option("--image-size", args->image_size, "image size WIDTHxHEIGHT (default 1920x1080)");
-  cmd->callback([args, cmd]() {
-    args->square_given = cmd->count("--square") > 0;
-    RunSimulate(*args);
-  });
+  cmd->callback([args]() { RunSimulate(*args); });
 }
 
 HANDEYE_SUBCOMMAND(50, RegisterSimulate);
