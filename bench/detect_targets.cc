@@ -58,8 +58,8 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  Table table({"target", "views", "detected", "true points", "found", "wrong (> 3 px)", "mean error px",
-               "detect ms median", "detect ms mean", "detect ms max"});
+  Table table({"target", "views", "detected", "true points", "found", "wrong (> 3 px)",
+               "mean error px", "detect ms median", "detect ms mean", "detect ms max"});
   for (const std::string& type : SplitList(targets)) {
     const auto target = MakeTarget(DefaultSpec(type));
     const auto detector = MakeDetector(target);
@@ -81,9 +81,9 @@ int main(int argc, char** argv) {
         RenderOptions render;
         render.blur_sigma_px = 0.75;
         render.seed = seed * 100000 + j * 100 + k;
-        const cv::Mat image = RenderView(camera, *target, TrueCameraFromTarget(scene, static_cast<int>(k),
-                                                                                 static_cast<int>(j)),
-                                         render);
+        const cv::Mat image = RenderView(
+            camera, *target, TrueCameraFromTarget(scene, static_cast<int>(k), static_cast<int>(j)),
+            render);
         const Stopwatch watch;
         const auto detection = detector->Detect(image);
         times_ms.push_back(1000.0 * watch.Seconds());
@@ -115,8 +115,9 @@ int main(int argc, char** argv) {
                Format("%.1f", Mean(times_ms)), Format("%.1f", max_ms)});
     std::fprintf(stderr, "%s done\n", type.c_str());
   }
-  std::printf("Detection on rendered %s-cell views, %dx%d, one thread per image (true points: all\n"
-              "points projected inside the image, whether their fiducial is whole or not)\n\n%s",
-              cell.c_str(), width, height, table.Markdown().c_str());
+  std::printf(
+      "Detection on rendered %s-cell views, %dx%d, one thread per image (true points: all\n"
+      "points projected inside the image, whether their fiducial is whole or not)\n\n%s",
+      cell.c_str(), width, height, table.Markdown().c_str());
   return 0;
 }

@@ -46,7 +46,8 @@ cv::Mat DrawSheet(const Target& target, double dpi) {
       auto* out = image.ptr<std::uint8_t>(r);
       for (int c = 0; c < width; ++c) {
         auto albedo = [&](double fu, double fv) {  // fu, fv in [0, 1) across the pixel
-          return target.Albedo(extent.min().x() + (c + fu) * pitch_m, extent.min().y() + (r + fv) * pitch_m);
+          return target.Albedo(extent.min().x() + (c + fu) * pitch_m,
+                               extent.min().y() + (r + fv) * pitch_m);
         };
         const double a = albedo(0.25, 0.25);
         double value = a;
@@ -79,7 +80,8 @@ std::uint32_t Crc32(const std::uint8_t* data, std::size_t size) {
 }
 
 void AppendBigEndian(std::uint32_t value, std::vector<std::uint8_t>* out) {
-  for (int shift = 24; shift >= 0; shift -= 8) out->push_back(static_cast<std::uint8_t>(value >> shift));
+  for (int shift = 24; shift >= 0; shift -= 8)
+    out->push_back(static_cast<std::uint8_t>(value >> shift));
 }
 
 /// PNG bytes with a pHYs chunk (pixels per metre) after the header, so that
@@ -112,7 +114,8 @@ void RunTarget(const TargetArgs& args) {
   const fs::path folder = out.has_parent_path() ? out.parent_path() : ".";
   std::error_code ec;
   if (!fs::is_directory(folder, ec))
-    throw InputError(args.output, "", "cannot write: folder '" + folder.string() + "' does not exist");
+    throw InputError(args.output, "",
+                     "cannot write: folder '" + folder.string() + "' does not exist");
 
   const auto target = MakeTargetFromOptions(args.target, false);
   PrintWarnings(target->Warnings());

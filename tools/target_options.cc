@@ -63,23 +63,28 @@ bool TargetOptions::Given(const std::string& name) const {
 }
 
 void AddTargetOptions(CLI::App* cmd, TargetOptions* o) {
-  o->added["--target-json"] = cmd->add_option(
-      "--target-json", o->target_json,
-      "file with a `target` object (SPEC §4), or a dataset holding one, instead of the options below");
-  o->added["--board"] = cmd->add_option("--board", o->board, "checkerboard inner corners COLSxROWS (default 7x4)");
-  o->added["--square"] = cmd->add_option(
-      "--square", o->square_m, "checkerboard or charuco square size in metres (default 0.04 / 0.055)");
-  o->added["--squares"] = cmd->add_option("--squares", o->squares, "charuco squares SXxSY (default 7x5)");
-  o->added["--marker"] = cmd->add_option("--marker", o->marker_m, "charuco marker size in metres (default 0.04)");
-  o->added["--dictionary"] =
-      cmd->add_option("--dictionary", o->dictionary, "charuco OpenCV dictionary (default DICT_5X5_100)");
+  o->added["--target-json"] = cmd->add_option("--target-json", o->target_json,
+                                              "file with a `target` object (SPEC §4), or a dataset "
+                                              "holding one, instead of the options below");
+  o->added["--board"] =
+      cmd->add_option("--board", o->board, "checkerboard inner corners COLSxROWS (default 7x4)");
+  o->added["--square"] =
+      cmd->add_option("--square", o->square_m,
+                      "checkerboard or charuco square size in metres (default 0.04 / 0.055)");
+  o->added["--squares"] =
+      cmd->add_option("--squares", o->squares, "charuco squares SXxSY (default 7x5)");
+  o->added["--marker"] =
+      cmd->add_option("--marker", o->marker_m, "charuco marker size in metres (default 0.04)");
+  o->added["--dictionary"] = cmd->add_option("--dictionary", o->dictionary,
+                                             "charuco OpenCV dictionary (default DICT_5X5_100)");
   o->added["--tags"] = cmd->add_option("--tags", o->tags, "aprilgrid tags COLSxROWS (default 6x4)");
   o->added["--tag-size"] =
-      cmd->add_option("--tag-size", o->tag_size_m, "aprilgrid tag size in metres, black square edge (default 0.05)");
-  o->added["--tag-spacing"] = cmd->add_option("--tag-spacing", o->tag_spacing,
-                                              "aprilgrid gap between tags / tag size (default 0.25)");
-  o->added["--border-bits"] =
-      cmd->add_option("--border-bits", o->border_bits, "aprilgrid black border width in bits, 1 or 2 (default 2)");
+      cmd->add_option("--tag-size", o->tag_size_m,
+                      "aprilgrid tag size in metres, black square edge (default 0.05)");
+  o->added["--tag-spacing"] = cmd->add_option(
+      "--tag-spacing", o->tag_spacing, "aprilgrid gap between tags / tag size (default 0.25)");
+  o->added["--border-bits"] = cmd->add_option(
+      "--border-bits", o->border_bits, "aprilgrid black border width in bits, 1 or 2 (default 2)");
 }
 
 std::shared_ptr<const Target> MakeTargetFromOptions(const TargetOptions& o, bool metric) {
@@ -94,8 +99,8 @@ std::shared_ptr<const Target> MakeTargetFromOptions(const TargetOptions& o, bool
     spec = SpecFromFile(o.target_json, &file_path_prefix);
     if (!o.type.empty() && o.type != spec.type)
       throw InputError("", "--target",
-                       "expected the type of " + o.target_json + " ('" + spec.type + "') or none, got '" +
-                           o.type + "'");
+                       "expected the type of " + o.target_json + " ('" + spec.type +
+                           "') or none, got '" + o.type + "'");
     for (const auto& [name, option] : o.added)
       if (name != "--target-json" && o.Given(name))
         throw InputError("", name, "expected either --target-json or target options, not both");
@@ -110,10 +115,12 @@ std::shared_ptr<const Target> MakeTargetFromOptions(const TargetOptions& o, bool
         registered = registered || type == spec.type;
       }
       if (!registered)
-        throw InputError("", "--target", "unknown target type '" + spec.type + "'; expected one of: " + known);
+        throw InputError("", "--target",
+                         "unknown target type '" + spec.type + "'; expected one of: " + known);
       throw InputError("", "--target",
-                       "no default '" + spec.type + "' target; expected checkerboard, charuco or "
-                       "aprilgrid, or --target-json with the target object");
+                       "no default '" + spec.type +
+                           "' target; expected checkerboard, charuco or "
+                           "aprilgrid, or --target-json with the target object");
     }
     for (const auto& [name, value] : {std::pair<const char*, double>{"--square", o.square_m},
                                       {"--marker", o.marker_m},
@@ -125,14 +132,19 @@ std::shared_ptr<const Target> MakeTargetFromOptions(const TargetOptions& o, bool
       if (name == "--target-json" || !o.Given(name)) continue;
       bool belongs = false;
       for (const auto& mine : it->second) belongs = belongs || mine == name;
-      if (!belongs) throw InputError("", name, "expected only with a target type that has it, not " + spec.type);
+      if (!belongs)
+        throw InputError("", name,
+                         "expected only with a target type that has it, not " + spec.type);
     }
     auto& v = spec.values;
     if (spec.type == "checkerboard") {
-      v["inner_corners"] = o.Given("--board") ? ParsePair("--board", o.board, "COLSxROWS inner corners")
-                           : metric          ? std::vector<double>{kMetricCols, kMetricRows}
-                                             : std::vector<double>{kCheckerCols, kCheckerRows};
-      v["square_size_m"] = o.Given("--square") ? o.square_m : metric ? kMetricSquareM : kCheckerSquareM;
+      v["inner_corners"] = o.Given("--board")
+                               ? ParsePair("--board", o.board, "COLSxROWS inner corners")
+                           : metric ? std::vector<double>{kMetricCols, kMetricRows}
+                                    : std::vector<double>{kCheckerCols, kCheckerRows};
+      v["square_size_m"] = o.Given("--square") ? o.square_m
+                           : metric            ? kMetricSquareM
+                                               : kCheckerSquareM;
     } else if (spec.type == "charuco") {
       v["squares"] = o.Given("--squares") ? ParsePair("--squares", o.squares, "SXxSY squares")
                                           : std::vector<double>{kCharucoSquaresX, kCharucoSquaresY};
@@ -150,7 +162,8 @@ std::shared_ptr<const Target> MakeTargetFromOptions(const TargetOptions& o, bool
   try {
     return MakeTarget(spec);
   } catch (const InputError& e) {
-    if (!o.target_json.empty()) throw InputError(o.target_json, file_path_prefix + e.json_path(), e.expected());
+    if (!o.target_json.empty())
+      throw InputError(o.target_json, file_path_prefix + e.json_path(), e.expected());
     throw InputError("", "--target" + e.json_path(), e.expected());
   }
 }

@@ -27,8 +27,9 @@ TargetSpec WithSpecKeyNames(const TargetSpec& spec) {
                                      {"tagSpacing", "tag_spacing"}}) {
     if (!spec.Has(kalibr)) continue;
     if (spec.Has(ours))
-      throw InputError("", std::string("/") + kalibr,
-                       std::string("expected either ") + ours + " or Kalibr's " + kalibr + ", not both");
+      throw InputError(
+          "", std::string("/") + kalibr,
+          std::string("expected either ") + ours + " or Kalibr's " + kalibr + ", not both");
     out.values[ours] = spec.values.at(kalibr);
     out.values.erase(kalibr);
   }
@@ -55,12 +56,12 @@ AprilGridTarget::AprilGridTarget(const TargetSpec& spec, MarkerCodebook family)
     throw InputError("", "/family",
                      "expected the code book of family '" + name + "', got '" + family_.name + "'");
   border_bits_ = spec_.Has("border_bits") ? spec_.GetInt("border_bits", 1) : 2;
-  if (border_bits_ > 2)
-    throw InputError("", "/border_bits", "expected 1 or 2 (Kalibr prints 2)");
+  if (border_bits_ > 2) throw InputError("", "/border_bits", "expected 1 or 2 (Kalibr prints 2)");
   if (NumTags() > static_cast<int>(family_.codes.size()))
     throw InputError("", "/tags",
-                     std::to_string(cols_) + "x" + std::to_string(rows_) + " tags; expected at most " +
-                         std::to_string(family_.codes.size()) + " for family " + name);
+                     std::to_string(cols_) + "x" + std::to_string(rows_) +
+                         " tags; expected at most " + std::to_string(family_.codes.size()) +
+                         " for family " + name);
   if (spec_.Has("min_corners")) spec_.GetInt("min_corners", 4);
   if (spec_.Has("min_border_px")) {
     const auto* px = std::get_if<double>(&spec_.values.at("min_border_px"));

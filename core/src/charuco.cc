@@ -10,7 +10,8 @@ namespace handeye {
 
 CharucoTarget::CharucoTarget(const TargetSpec& spec, MarkerCodebook dictionary)
     : spec_(spec), dictionary_(std::move(dictionary)) {
-  spec.RejectUnknownKeys({"squares", "square_size_m", "marker_size_m", "dictionary", "min_corners"});
+  spec.RejectUnknownKeys(
+      {"squares", "square_size_m", "marker_size_m", "dictionary", "min_corners"});
   const auto squares = spec.GetIntPair("squares", 2);
   squares_x_ = squares[0];
   squares_y_ = squares[1];
@@ -24,9 +25,9 @@ CharucoTarget::CharucoTarget(const TargetSpec& spec, MarkerCodebook dictionary)
                      "missing key; expected an OpenCV dictionary name such as DICT_5X5_100");
   const std::string name = spec.GetString("dictionary", "");
   if (name != dictionary_.name || !dictionary_.Valid())
-    throw InputError("", "/dictionary",
-                     "expected the code book of dictionary '" + name + "', got '" +
-                         dictionary_.name + "'");
+    throw InputError(
+        "", "/dictionary",
+        "expected the code book of dictionary '" + name + "', got '" + dictionary_.name + "'");
   if (spec.Has("min_corners")) spec.GetInt("min_corners", 4);
   margin_m_ = 0.5 * (square_m_ - marker_m_);
 
@@ -42,21 +43,22 @@ CharucoTarget::CharucoTarget(const TargetSpec& spec, MarkerCodebook dictionary)
   if (NumMarkers() > static_cast<int>(dictionary_.codes.size()))
     throw InputError("", "/squares",
                      "a " + std::to_string(squares_x_) + "x" + std::to_string(squares_y_) +
-                         " board needs " + std::to_string(NumMarkers()) + " markers; expected at most " +
-                         std::to_string(dictionary_.codes.size()) + " for " + name +
-                         " (use a larger dictionary)");
+                         " board needs " + std::to_string(NumMarkers()) +
+                         " markers; expected at most " + std::to_string(dictionary_.codes.size()) +
+                         " for " + name + " (use a larger dictionary)");
 
   const int cols = squares_x_ - 1, rows = squares_y_ - 1;
   points_.reserve(static_cast<std::size_t>(cols) * rows);
   for (int y = 0; y < rows; ++y)
     for (int x = 0; x < cols; ++x)
-      points_.push_back({y * cols + x, Eigen::Vector3d((x + 1) * square_m_, (y + 1) * square_m_, 0.0)});
+      points_.push_back(
+          {y * cols + x, Eigen::Vector3d((x + 1) * square_m_, (y + 1) * square_m_, 0.0)});
 }
 
 Eigen::AlignedBox2d CharucoTarget::Extent() const {
-  return Eigen::AlignedBox2d(Eigen::Vector2d(-margin_m_, -margin_m_),
-                             Eigen::Vector2d(squares_x_ * square_m_ + margin_m_,
-                                             squares_y_ * square_m_ + margin_m_));
+  return Eigen::AlignedBox2d(
+      Eigen::Vector2d(-margin_m_, -margin_m_),
+      Eigen::Vector2d(squares_x_ * square_m_ + margin_m_, squares_y_ * square_m_ + margin_m_));
 }
 
 double CharucoTarget::Albedo(double x_m, double y_m) const {
@@ -87,7 +89,8 @@ std::array<Eigen::Vector3d, 4> CharucoTarget::MarkerCorners(int id) const {
   const auto [a, b] = marker_square_.at(static_cast<std::size_t>(id));
   const Eigen::Vector3d top_left(a * square_m_ + margin_m_, b * square_m_ + margin_m_, 0.0);
   return {top_left, top_left + Eigen::Vector3d(marker_m_, 0, 0),
-          top_left + Eigen::Vector3d(marker_m_, marker_m_, 0), top_left + Eigen::Vector3d(0, marker_m_, 0)};
+          top_left + Eigen::Vector3d(marker_m_, marker_m_, 0),
+          top_left + Eigen::Vector3d(0, marker_m_, 0)};
 }
 
 std::array<int, 2> CharucoTarget::MarkersAtCorner(int corner_id) const {

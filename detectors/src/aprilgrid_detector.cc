@@ -13,8 +13,8 @@
 #include <stdexcept>
 #include <utility>
 
-#include "handeye/core/error.h"
 #include "corner_refinement.h"
+#include "handeye/core/error.h"
 
 namespace handeye {
 namespace {
@@ -75,9 +75,11 @@ MarkerCodebook AprilTagCodebook(const std::string& family_name) {
     // (bit_x[i], bit_y[i]); 1 is white (apriltag_to_image).
     std::vector<std::uint8_t> code(static_cast<std::size_t>(n) * n, 0);
     for (std::uint32_t i = 0; i < f.nbits; ++i) {
-      const int x = static_cast<int>(f.bit_x[i]) - offset, y = static_cast<int>(f.bit_y[i]) - offset;
+      const int x = static_cast<int>(f.bit_x[i]) - offset,
+                y = static_cast<int>(f.bit_y[i]) - offset;
       if (x < 0 || y < 0 || x >= n || y >= n)
-        throw std::logic_error("AprilTagCodebook: " + family_name + " is not a classic square layout");
+        throw std::logic_error("AprilTagCodebook: " + family_name +
+                               " is not a classic square layout");
       code[static_cast<std::size_t>(y) * n + x] = (f.codes[id] >> (f.nbits - 1 - i)) & 1u;
     }
     book.codes.push_back(std::move(code));
@@ -86,13 +88,17 @@ MarkerCodebook AprilTagCodebook(const std::string& family_name) {
 }
 
 std::shared_ptr<const AprilGridTarget> MakeAprilGridTarget(const TargetSpec& spec) {
-  auto target = std::make_shared<const AprilGridTarget>(spec, AprilTagCodebook(spec.GetString("family", "tag36h11")));
+  auto target = std::make_shared<const AprilGridTarget>(
+      spec, AprilTagCodebook(spec.GetString("family", "tag36h11")));
   AprilGridDetector::Options::FromSpec(spec);
   return target;
 }
 
 TargetPlugin AprilGridPlugin() {
-  return {"aprilgrid", [](const TargetSpec& spec) -> std::shared_ptr<const Target> { return MakeAprilGridTarget(spec); },
+  return {"aprilgrid",
+          [](const TargetSpec& spec) -> std::shared_ptr<const Target> {
+            return MakeAprilGridTarget(spec);
+          },
           [](std::shared_ptr<const Target> target) -> std::unique_ptr<Detector> {
             auto grid = std::dynamic_pointer_cast<const AprilGridTarget>(target);
             if (!grid) throw std::invalid_argument("aprilgrid plugin: not an AprilGridTarget");
@@ -235,7 +241,8 @@ std::vector<AprilGridDetector::RawTag> AprilGridDetector::DetectRawTags(const cv
     cv::Mat brightened;
     cv::LUT(gray, lut, brightened);
     // The library only reads the image (quad_sigma = 0, no decimation).
-    image_u8_t image{brightened.cols, brightened.rows, static_cast<std::int32_t>(brightened.step[0]),
+    image_u8_t image{brightened.cols, brightened.rows,
+                     static_cast<std::int32_t>(brightened.step[0]),
                      brightened.ptr<std::uint8_t>(0)};
     zarray_t* detections = apriltag_detector_detect(engine->detector, &image);
     for (int i = 0; i < zarray_size(detections); ++i) {
@@ -248,8 +255,8 @@ std::vector<AprilGridDetector::RawTag> AprilGridDetector::DetectRawTags(const cv
       // with y down the upright tag: bottom-left, bottom-right, top-right,
       // top-left, the order of TagCornerIds().
       for (int k = 0; k < 4; ++k)
-        tag.corners_px[k] = Eigen::Vector2d(det->p[k][0] - kLibraryPixelOffset,
-                                            det->p[k][1] - kLibraryPixelOffset);
+        tag.corners_px[k] =
+            Eigen::Vector2d(det->p[k][0] - kLibraryPixelOffset, det->p[k][1] - kLibraryPixelOffset);
       // The same tag from an earlier pass (same id, same place) is kept once;
       // the same id elsewhere is a second copy, left for Detect() to drop.
       const auto same = std::find_if(tags.begin(), tags.end(), [&tag](const RawTag& other) {

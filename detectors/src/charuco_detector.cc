@@ -8,8 +8,8 @@
 #include <stdexcept>
 #include <utility>
 
-#include "handeye/core/error.h"
 #include "corner_refinement.h"
+#include "handeye/core/error.h"
 
 namespace handeye {
 namespace {
@@ -99,7 +99,10 @@ std::shared_ptr<const CharucoTarget> MakeCharucoTarget(const TargetSpec& spec) {
 }
 
 TargetPlugin CharucoPlugin() {
-  return {"charuco", [](const TargetSpec& spec) -> std::shared_ptr<const Target> { return MakeCharucoTarget(spec); },
+  return {"charuco",
+          [](const TargetSpec& spec) -> std::shared_ptr<const Target> {
+            return MakeCharucoTarget(spec);
+          },
           [](std::shared_ptr<const Target> target) -> std::unique_ptr<Detector> {
             auto charuco = std::dynamic_pointer_cast<const CharucoTarget>(target);
             if (!charuco) throw std::invalid_argument("charuco plugin: not a CharucoTarget");
@@ -136,7 +139,8 @@ struct CharucoDetector::OpenCvState {
 CharucoDetector::CharucoDetector(std::shared_ptr<const CharucoTarget> target)
     : CharucoDetector(target, target ? Options::FromSpec(target->Spec()) : Options()) {}
 
-CharucoDetector::CharucoDetector(std::shared_ptr<const CharucoTarget> target, const Options& options)
+CharucoDetector::CharucoDetector(std::shared_ptr<const CharucoTarget> target,
+                                 const Options& options)
     : target_(std::move(target)), options_(options) {
   if (!target_) throw std::invalid_argument("CharucoDetector: null target");
   std::string why;
@@ -254,8 +258,9 @@ std::optional<Detection> CharucoDetector::Detect(const cv::Mat& gray,
         std::max(options_.min_homography_tolerance_px, options_.homography_tolerance * square_px);
     bool markers_agree = true;
     for (std::size_t k = 0; k < board_xy.size(); ++k)
-      markers_agree = markers_agree &&
-                      (internal::ApplyHomography(*H, board_xy[k]) - image_uv[k]).norm() <= tolerance_px;
+      markers_agree =
+          markers_agree &&
+          (internal::ApplyHomography(*H, board_xy[k]) - image_uv[k]).norm() <= tolerance_px;
     if (!markers_agree) {
       reject(id, "homography");
       continue;
@@ -276,8 +281,9 @@ std::optional<Detection> CharucoDetector::Detect(const cv::Mat& gray,
     std::array<Eigen::AlignedBox2d, 2> marker_boxes;
     for (int k = 0; k < 2; ++k) {
       const auto corners = target_->MarkerCorners(target_->MarkersAtCorner(id)[k]);
-      marker_boxes[k] = Eigen::AlignedBox2d(corners[0].head<2>() - Eigen::Vector2d::Constant(grow_m),
-                                            corners[2].head<2>() + Eigen::Vector2d::Constant(grow_m));
+      marker_boxes[k] =
+          Eigen::AlignedBox2d(corners[0].head<2>() - Eigen::Vector2d::Constant(grow_m),
+                              corners[2].head<2>() + Eigen::Vector2d::Constant(grow_m));
     }
     const auto off_markers = [&](int x, int y) {
       const Eigen::Vector2d q = internal::ApplyHomography(board_from_image, Eigen::Vector2d(x, y));

@@ -142,8 +142,10 @@ std::optional<EdgeLine> FitEdge(const cv::Mat& gray, const Eigen::Vector2d& from
         const double d = line.normal.dot(p) - line.offset;
         if (t < -extend_px || t > length + extend_px || std::abs(d) > half_width_px) continue;
         if (std::abs(t) < skip_px || std::abs(t - length) < skip_px) continue;
-        const double gx = (up[x + 1] - up[x - 1]) + 2.0 * (mid[x + 1] - mid[x - 1]) + (down[x + 1] - down[x - 1]);
-        const double gy = (down[x - 1] - up[x - 1]) + 2.0 * (down[x] - up[x]) + (down[x + 1] - up[x + 1]);
+        const double gx =
+            (up[x + 1] - up[x - 1]) + 2.0 * (mid[x + 1] - mid[x - 1]) + (down[x + 1] - down[x - 1]);
+        const double gy =
+            (down[x - 1] - up[x - 1]) + 2.0 * (down[x] - up[x]) + (down[x + 1] - up[x + 1]);
         const double g = gx * line.normal.x() + gy * line.normal.y();
         const double w = g * g;
         weight_sum += w;

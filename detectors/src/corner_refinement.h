@@ -5,8 +5,8 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <opencv2/core/mat.hpp>
 #include <functional>
+#include <opencv2/core/mat.hpp>
 #include <optional>
 #include <vector>
 
@@ -29,8 +29,9 @@ std::optional<Eigen::Vector2d> RefineXCorner(const cv::Mat& gray, const Eigen::V
                                              const std::function<bool(int x, int y)>& keep = {});
 
 /// The same with a round window of `radius_px`.
-inline std::optional<Eigen::Vector2d> RefineXCorner(const cv::Mat& gray, const Eigen::Vector2d& guess,
-                                                    double radius_px, double max_shift_px) {
+inline std::optional<Eigen::Vector2d> RefineXCorner(const cv::Mat& gray,
+                                                    const Eigen::Vector2d& guess, double radius_px,
+                                                    double max_shift_px) {
   return RefineXCorner(gray, guess, radius_px * Eigen::Matrix2d::Identity(), max_shift_px);
 }
 

@@ -72,12 +72,12 @@ TEST_CASE("aprilgrid print: tag 0 bottom-left and upright, 2-bit border, black c
   const MarkerCodebook book = TinyFamily(10);
   const AprilGridTarget grid(Spec(3, 2, s, 0.25), book);
   // Corner squares at the gap crossings touch the tag corners diagonally.
-  CHECK(grid.Albedo(-0.5 * g, 0.5 * g) == 0.0);       // below-left of tag 0's bottom-left corner
-  CHECK(grid.Albedo(s + 0.5 * g, 0.5 * g) == 0.0);    // between tags 0 and 1, bottom row
-  CHECK(grid.Albedo(s + 0.5 * g, -0.5 * s) == 1.0);   // gap between tags 0 and 1
-  CHECK(grid.Albedo(0.5 * s, 0.5 * g) == 1.0);        // gap below tag 0
-  CHECK(grid.Albedo(0.5 * s, -(s + 0.5 * g)) == 1.0); // gap between rows
-  CHECK(grid.Albedo(-1.5 * g, 0.0) == 1.0);           // margin
+  CHECK(grid.Albedo(-0.5 * g, 0.5 * g) == 0.0);        // below-left of tag 0's bottom-left corner
+  CHECK(grid.Albedo(s + 0.5 * g, 0.5 * g) == 0.0);     // between tags 0 and 1, bottom row
+  CHECK(grid.Albedo(s + 0.5 * g, -0.5 * s) == 1.0);    // gap between tags 0 and 1
+  CHECK(grid.Albedo(0.5 * s, 0.5 * g) == 1.0);         // gap below tag 0
+  CHECK(grid.Albedo(0.5 * s, -(s + 0.5 * g)) == 1.0);  // gap between rows
+  CHECK(grid.Albedo(-1.5 * g, 0.0) == 1.0);            // margin
   // Tag 0 covers x in [0, s], y in [-s, 0]; its top row of data cells is at
   // the top (most negative y), as the tag is printed upright.
   CHECK(grid.Albedo(0.5 * b, -0.5 * s) == 0.0);  // border
@@ -86,7 +86,8 @@ TEST_CASE("aprilgrid print: tag 0 bottom-left and upright, 2-bit border, black c
     const double x0 = (tag % 3) * (s + g), y_top = -((tag / 3) * (s + g) + s);
     for (int r = 0; r < 2; ++r)
       for (int c = 0; c < 2; ++c)
-        CHECK(grid.Albedo(x0 + (2 + c + 0.5) * b, y_top + (2 + r + 0.5) * b) == book.codes[tag][r * 2 + c]);
+        CHECK(grid.Albedo(x0 + (2 + c + 0.5) * b, y_top + (2 + r + 0.5) * b) ==
+              book.codes[tag][r * 2 + c]);
   }
   // Tag 3 is above tag 0 (row 1, column 0).
   const std::array<int, 4> ids = grid.TagCornerIds(3);

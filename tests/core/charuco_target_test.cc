@@ -88,8 +88,9 @@ TEST_CASE("charuco markers fill the white squares row by row, square (0, 0) blac
   CHECK(around[1] == 3);
 }
 
-TEST_CASE("charuco texture: black squares, white margin, markers with a black border and their bits",
-          "[charuco]") {
+TEST_CASE(
+    "charuco texture: black squares, white margin, markers with a black border and their bits",
+    "[charuco]") {
   const MarkerCodebook book = TinyDictionary(20);
   const CharucoTarget board(Spec(5, 4, 0.04, 0.03), book);
   const auto extent = board.Extent();
@@ -105,11 +106,13 @@ TEST_CASE("charuco texture: black squares, white margin, markers with a black bo
   CHECK(board.Albedo(0.045 + 0.5 * cell, 0.005 + 2.5 * cell) == 0.0);  // border column
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c)
-      CHECK(board.Albedo(0.045 + (c + 1.5) * cell, 0.005 + (r + 1.5) * cell) == book.codes[0][r * 3 + c]);
+      CHECK(board.Albedo(0.045 + (c + 1.5) * cell, 0.005 + (r + 1.5) * cell) ==
+            book.codes[0][r * 3 + c]);
   // Marker 4 in square (4, 1).
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c)
-      CHECK(board.Albedo(0.165 + (c + 1.5) * cell, 0.045 + (r + 1.5) * cell) == book.codes[4][r * 3 + c]);
+      CHECK(board.Albedo(0.165 + (c + 1.5) * cell, 0.045 + (r + 1.5) * cell) ==
+            book.codes[4][r * 3 + c]);
 }
 
 TEST_CASE("charuco spec errors name the key", "[charuco]") {

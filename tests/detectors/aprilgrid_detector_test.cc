@@ -2,12 +2,13 @@
 // AprilGrid plugin: the print is Kalibr's, libapriltag's corners are moved to
 // SPEC §2's pixel convention, and the detector finds the corners of rendered
 // views accurately, with no wrong ids.
+#include "handeye/detectors/aprilgrid_detector.h"
+
 #include <catch2/catch.hpp>
 #include <opencv2/core.hpp>
 
 #include "detectors/rendered_views.h"
 #include "handeye/core/error.h"
-#include "handeye/detectors/aprilgrid_detector.h"
 #include "handeye/detectors/registry.h"
 
 using namespace handeye;
@@ -37,7 +38,8 @@ test::IdentifyingCorners TagOf(const AprilGridTarget& grid) {
     const double gap = grid.tag_spacing() * grid.tag_size_m();
     for (int k = 0; k < 4; ++k) {
       const Eigen::Vector3d out = corners[k] - centre;
-      corners.push_back(corners[k] + gap * Eigen::Vector3d(out.x() > 0 ? 1 : -1, out.y() > 0 ? 1 : -1, 0));
+      corners.push_back(corners[k] +
+                        gap * Eigen::Vector3d(out.x() > 0 ? 1 : -1, out.y() > 0 ? 1 : -1, 0));
     }
     return corners;
   };
@@ -72,7 +74,8 @@ TEST_CASE("tag36h11 code book is what Kalibr prints", "[aprilgrid]") {
   CHECK_THROWS_AS(AprilTagCodebook("tag16h5"), InputError);
 }
 
-TEST_CASE("aprilgrid is a registered target plugin that takes Kalibr's key names", "[aprilgrid][registry]") {
+TEST_CASE("aprilgrid is a registered target plugin that takes Kalibr's key names",
+          "[aprilgrid][registry]") {
   TargetSpec kalibr;
   kalibr.type = "aprilgrid";
   kalibr.values["tagCols"] = 6.0;
@@ -104,9 +107,11 @@ TEST_CASE("libapriltag corners are moved to SPEC pixel centres (0, 0) = top-left
   const AprilGridDetector detector(grid);
   const Camera camera = test::PinholeCamera(400, 300, 800);
   const std::array<int, 4> ids = grid->TagCornerIds(0);
-  for (const auto& [du, dv] : {std::pair<double, double>{0.0, 0.0}, {0.25, 0.5}, {0.5, 0.75}, {0.8, 0.1}}) {
+  for (const auto& [du, dv] :
+       {std::pair<double, double>{0.0, 0.0}, {0.25, 0.5}, {0.5, 0.75}, {0.8, 0.1}}) {
     INFO("offset " << du << ", " << dv);
-    const Eigen::Isometry3d T = test::ViewAt(camera, *grid, 200 + du, 150 + dv, 800 * kTagM / 120, 0.0, 0.0);
+    const Eigen::Isometry3d T =
+        test::ViewAt(camera, *grid, 200 + du, 150 + dv, 800 * kTagM / 120, 0.0, 0.0);
     RenderOptions render;
     render.clutter = false;
     const cv::Mat image = RenderView(camera, *grid, T, render);
@@ -122,15 +127,17 @@ TEST_CASE("libapriltag corners are moved to SPEC pixel centres (0, 0) = top-left
     }
     CHECK(mean_offset.norm() < 0.2);
     // And the detector's refined corners are on the truth.
-    const auto detection = AprilGridDetector(grid, [] {
-                             AprilGridDetector::Options options;
-                             options.min_corners = 4;
-                             return options;
-                           }())
+    const auto detection = AprilGridDetector(grid,
+                                             [] {
+                                               AprilGridDetector::Options options;
+                                               options.min_corners = 4;
+                                               return options;
+                                             }())
                                .Detect(image);
     REQUIRE(detection);
     for (std::size_t i = 0; i < detection->ids.size(); ++i)
-      CHECK((detection->points_px[i] - *camera.Project(T * grid->FindPoint(detection->ids[i])->p_target))
+      CHECK((detection->points_px[i] -
+             *camera.Project(T * grid->FindPoint(detection->ids[i])->p_target))
                 .norm() < 0.05);
   }
 }
@@ -142,8 +149,9 @@ TEST_CASE("aprilgrid corners at 1280x720 and 1920x1080: >= 99 % found, mean erro
   for (const auto& [width, height] : {std::pair<int, int>{1280, 720}, {1920, 1080}}) {
     INFO(width << "x" << height);
     const Camera camera = test::PinholeCamera(width, height, 0.714 * width);
-    const test::Score score = test::RenderAndScore(camera, *grid, detector, TagOf(*grid), Sampling(20, 40),
-                                                   RenderOptions(), 8, width, kBorderPx, kWrongPx, 8);
+    const test::Score score =
+        test::RenderAndScore(camera, *grid, detector, TagOf(*grid), Sampling(20, 40),
+                             RenderOptions(), 8, width, kBorderPx, kWrongPx, 8);
     INFO(score.Summary());
     CHECK(score.expected > 300);
     CHECK(score.Rate() >= 0.99);
@@ -160,7 +168,8 @@ TEST_CASE("aprilgrid partial views: half the grid outside the image, ids still r
   const double distance = 900 * kTagM / 35;  // 35 px tags
   test::Score score;
   int views = 0;
-  for (const auto& [u, v] : {std::pair<double, double>{0, 360}, {1279, 360}, {640, 0}, {640, 719}}) {
+  for (const auto& [u, v] :
+       {std::pair<double, double>{0, 360}, {1279, 360}, {640, 0}, {640, 719}}) {
     const Eigen::Isometry3d T = test::ViewAt(camera, *grid, u, v, distance, 0.1 * views, 0.2);
     RenderOptions render;
     render.seed = 50 + views++;
@@ -184,8 +193,9 @@ TEST_CASE("aprilgrid: no wrong ids over 200 rendered 640x480 views", "[aprilgrid
   test::ViewSampling sampling = Sampling(16, 60);
   sampling.max_tilt_deg = 60;
   sampling.centre_beyond_border = 0.25;
-  const test::Score score = test::RenderAndScore(camera, *grid, detector, TagOf(*grid), sampling,
-                                                 RenderOptions(), 200, 4048, kBorderPx, kWrongPx, 8);
+  const test::Score score =
+      test::RenderAndScore(camera, *grid, detector, TagOf(*grid), sampling, RenderOptions(), 200,
+                           4048, kBorderPx, kWrongPx, 8);
   INFO(score.Summary());
   CHECK(score.views_detected >= 80);
   CHECK(score.found >= 2500);
@@ -199,8 +209,9 @@ TEST_CASE("aprilgrid with a 1-bit border (border_bits: 1) is detected too", "[ap
   const auto grid = MakeAprilGridTarget(spec);
   const AprilGridDetector detector(grid);
   const Camera camera = test::PinholeCamera(1280, 720, 900);
-  const test::Score score = test::RenderAndScore(camera, *grid, detector, TagOf(*grid), Sampling(25, 40),
-                                                 RenderOptions(), 4, 11, kBorderPx, kWrongPx, 8);
+  const test::Score score =
+      test::RenderAndScore(camera, *grid, detector, TagOf(*grid), Sampling(25, 40), RenderOptions(),
+                           4, 11, kBorderPx, kWrongPx, 8);
   INFO(score.Summary());
   CHECK(score.expected > 200);
   CHECK(score.Rate() >= 0.99);
@@ -210,11 +221,13 @@ TEST_CASE("aprilgrid with a 1-bit border (border_bits: 1) is detected too", "[ap
   // tags, and none as the wrong tag.
   const auto kalibr = MakeAprilGridTarget(GridSpec());
   const auto T = test::ViewAt(camera, *grid, 640, 360, 900 * kTagM / 35, 0.2, 0.1);
-  const auto misread = AprilGridDetector(kalibr).DetectRawTags(RenderView(camera, *grid, T, RenderOptions()));
+  const auto misread =
+      AprilGridDetector(kalibr).DetectRawTags(RenderView(camera, *grid, T, RenderOptions()));
   CHECK(misread.size() <= 2);
   for (const auto& tag : misread) {
     const auto ids = grid->TagCornerIds(tag.id);
-    CHECK((tag.corners_px[0] - *camera.Project(T * grid->FindPoint(ids[0])->p_target)).norm() < 2.0);
+    CHECK((tag.corners_px[0] - *camera.Project(T * grid->FindPoint(ids[0])->p_target)).norm() <
+          2.0);
   }
 }
 
@@ -239,7 +252,8 @@ TEST_CASE("aprilgrid: a tag seen twice is dropped, tags at the image border are 
   const auto with_copy = detector.Detect(image);
   REQUIRE(with_copy);
   CHECK(with_copy->ids.size() == 92);
-  for (int id : ids) CHECK(std::find(with_copy->ids.begin(), with_copy->ids.end(), id) == with_copy->ids.end());
+  for (int id : ids)
+    CHECK(std::find(with_copy->ids.begin(), with_copy->ids.end(), id) == with_copy->ids.end());
 
   // Grid cut by the left image border: no corner within min_border_px (4) of it.
   const Eigen::Isometry3d cut = test::ViewAt(camera, *grid, 120, 360, 900 * kTagM / 40, 0.05, 0.0);

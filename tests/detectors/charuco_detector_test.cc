@@ -2,13 +2,14 @@
 // ChArUco plugin: the print agrees with OpenCV 4.6's own drawing, and the
 // detector finds the corners of rendered views (with lens-free pinhole
 // cameras, clutter, blur and noise) accurately, with no wrong ids.
+#include "handeye/detectors/charuco_detector.h"
+
 #include <catch2/catch.hpp>
 #include <opencv2/aruco/charuco.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "detectors/rendered_views.h"
 #include "handeye/core/error.h"
-#include "handeye/detectors/charuco_detector.h"
 #include "handeye/detectors/registry.h"
 
 using namespace handeye;
@@ -68,8 +69,8 @@ TEST_CASE("ArUco code books are the markers cv::aruco::drawMarker draws", "[char
       cv::aruco::drawMarker(dictionary, id, (n + 2) * cell, drawn, 1);
       for (int r = 0; r < n; ++r)
         for (int c = 0; c < n; ++c)
-          CHECK((drawn.at<std::uint8_t>((r + 1) * cell + cell / 2, (c + 1) * cell + cell / 2) > 127) ==
-                (book.codes[id][r * n + c] == 1));
+          CHECK((drawn.at<std::uint8_t>((r + 1) * cell + cell / 2, (c + 1) * cell + cell / 2) >
+                 127) == (book.codes[id][r * n + c] == 1));
     }
   }
 }
@@ -100,7 +101,8 @@ TEST_CASE("charuco print matches cv::aruco::CharucoBoard::draw of OpenCV 4.6", "
         // Cell boundaries repeat within each square, from the marker's edge.
         const double margin = 0.5 * (kSquareM - kMarkerM);
         const double x_in = std::fmod(x, kSquareM) - margin, y_in = std::fmod(y, kSquareM) - margin;
-        if (near(x, kSquareM, 0) || near(y, kSquareM, 0) || near(x_in, cell, 0) || near(y_in, cell, 0))
+        if (near(x, kSquareM, 0) || near(y, kSquareM, 0) || near(x_in, cell, 0) ||
+            near(y_in, cell, 0))
           continue;
         ++interior;
         mismatched += (board->Albedo(x, y) > 0.5) != (drawn.at<std::uint8_t>(r, c) > 127);
@@ -145,9 +147,9 @@ TEST_CASE("charuco corners at 1280x720 and 1920x1080: >= 99 % found, mean error 
   for (const auto& [width, height] : {std::pair<int, int>{1280, 720}, {1920, 1080}}) {
     INFO(width << "x" << height);
     const Camera camera = test::PinholeCamera(width, height, 0.714 * width);
-    const test::Score score = test::RenderAndScore(camera, *board, detector, MarkersOf(*board),
-                                                   Sampling(20, 40), render, 12, width, kBorderPx,
-                                                   kWrongPx, 8);
+    const test::Score score =
+        test::RenderAndScore(camera, *board, detector, MarkersOf(*board), Sampling(20, 40), render,
+                             12, width, kBorderPx, kWrongPx, 8);
     INFO(score.Summary());
     CHECK(score.expected > 100);
     CHECK(score.Rate() >= 0.99);
@@ -166,7 +168,8 @@ TEST_CASE("charuco partial views: half the board outside the image, ids still ri
   test::Score score;
   int views = 0;
   // The sheet's centre on each edge of the image, turned a little.
-  for (const auto& [u, v] : {std::pair<double, double>{0, 360}, {1279, 360}, {640, 0}, {640, 719}}) {
+  for (const auto& [u, v] :
+       {std::pair<double, double>{0, 360}, {1279, 360}, {640, 0}, {640, 719}}) {
     const Eigen::Isometry3d T = test::ViewAt(camera, *board, u, v, distance, 0.1 * views, 0.2);
     RenderOptions render;
     render.seed = 40 + views++;
@@ -188,8 +191,9 @@ TEST_CASE("charuco: no wrong ids over 200 rendered 640x480 views", "[charuco][id
   test::ViewSampling sampling = Sampling(14, 60);  // also below 20 px, where misreads would start
   sampling.max_tilt_deg = 60;
   sampling.centre_beyond_border = 0.3;
-  const test::Score score = test::RenderAndScore(camera, *board, detector, MarkersOf(*board), sampling,
-                                                 RenderOptions(), 200, 2024, kBorderPx, kWrongPx, 8);
+  const test::Score score =
+      test::RenderAndScore(camera, *board, detector, MarkersOf(*board), sampling, RenderOptions(),
+                           200, 2024, kBorderPx, kWrongPx, 8);
   INFO(score.Summary());
   CHECK(score.views_detected >= 40);
   CHECK(score.found >= 400);
@@ -212,8 +216,8 @@ TEST_CASE("charuco: corners next to misplaced markers fail the local homography 
   int rejected_homography = 0;
   test::Score score;
   for (int k = 0; k < 4; ++k) {
-    const Eigen::Isometry3d T = test::ViewAt(camera, misprint, 640 + 40 * k, 360, 900 * kMarkerM / 35,
-                                             0.4 * k, 0.2 * k);
+    const Eigen::Isometry3d T =
+        test::ViewAt(camera, misprint, 640 + 40 * k, 360, 900 * kMarkerM / 35, 0.4 * k, 0.2 * k);
     RenderOptions render;
     render.seed = 70 + k;
     std::vector<CharucoRejection> rejected;

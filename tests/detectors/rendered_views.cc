@@ -12,8 +12,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 }  // namespace
 
-Eigen::Isometry3d RandomView(const Camera& camera, const Target& target, const ViewSampling& sampling,
-                             std::mt19937_64* rng) {
+Eigen::Isometry3d RandomView(const Camera& camera, const Target& target,
+                             const ViewSampling& sampling, std::mt19937_64* rng) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   // Feature size in the image log-uniform in the range; face-on distance for it.
   const double px = sampling.min_feature_px *
@@ -68,7 +68,8 @@ std::string Score::Summary() const {
 
 void ScoreView(const Camera& camera, const Target& target, const Eigen::Isometry3d& T_cam_target,
                const IdentifyingCorners& identifying, const std::optional<Detection>& detection,
-               double min_feature_px, double border_px, double wrong_px, int min_points, Score* score) {
+               double min_feature_px, double border_px, double wrong_px, int min_points,
+               Score* score) {
   ++score->views;
   std::map<int, Eigen::Vector2d> reported;
   if (detection) {
@@ -144,7 +145,8 @@ Score RenderAndScore(const Camera& camera, const Target& target, const Detector&
 
 Camera PinholeCamera(int width, int height, double fx) {
   std::string why;
-  return *Camera::Make("cam", width, height, fx, fx, (width - 1) / 2.0, (height - 1) / 2.0, {}, &why);
+  return *Camera::Make("cam", width, height, fx, fx, (width - 1) / 2.0, (height - 1) / 2.0, {},
+                       &why);
 }
 
 }  // namespace handeye::test

@@ -38,8 +38,8 @@ struct ViewSampling {
 };
 
 /// T_cam_target for a random view of `target` (printed face towards the camera).
-Eigen::Isometry3d RandomView(const Camera& camera, const Target& target, const ViewSampling& sampling,
-                             std::mt19937_64* rng);
+Eigen::Isometry3d RandomView(const Camera& camera, const Target& target,
+                             const ViewSampling& sampling, std::mt19937_64* rng);
 
 /// T_cam_target with the sheet's centre on the ray through pixel (u, v) at
 /// `distance_m`, turned by `spin_rad` about its normal and tilted by
@@ -49,11 +49,11 @@ Eigen::Isometry3d ViewAt(const Camera& camera, const Target& target, double u, d
 
 /// Tallies over views.
 struct Score {
-  int expected = 0;       ///< points whose fiducials are ≥ min size and fully in view
-  int found = 0;          ///< of those, reported with the right id
-  int wrong = 0;          ///< reported points farther than the wrong-id threshold from their truth
-  int views = 0;          ///< views scored
-  int views_detected = 0; ///< views where the detector returned a detection
+  int expected = 0;        ///< points whose fiducials are ≥ min size and fully in view
+  int found = 0;           ///< of those, reported with the right id
+  int wrong = 0;           ///< reported points farther than the wrong-id threshold from their truth
+  int views = 0;           ///< views scored
+  int views_detected = 0;  ///< views where the detector returned a detection
   std::vector<double> errors_px;  ///< distance to truth of every correctly identified point
   double Rate() const { return expected ? static_cast<double>(found) / expected : 0.0; }
   double MeanError() const;
@@ -69,7 +69,8 @@ struct Score {
 /// none (the detector's `min_corners` rejects it by design).
 void ScoreView(const Camera& camera, const Target& target, const Eigen::Isometry3d& T_cam_target,
                const IdentifyingCorners& identifying, const std::optional<Detection>& detection,
-               double min_feature_px, double border_px, double wrong_px, int min_points, Score* score);
+               double min_feature_px, double border_px, double wrong_px, int min_points,
+               Score* score);
 
 /// Renders, detects and scores `count` random views (seeded by `seed`).
 Score RenderAndScore(const Camera& camera, const Target& target, const Detector& detector,

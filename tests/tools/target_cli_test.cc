@@ -70,7 +70,8 @@ TEST_CASE("target draws the default ChArUco sheet at the given dpi with its targ
     for (int c = 3; c < image.cols; c += 7) {
       const std::uint8_t value = image.at<std::uint8_t>(r, c);
       if (value != 0 && value != 255) continue;  // an edge pixel, averaged
-      const double x = extent.min().x() + (c + 0.5) * pitch, y = extent.min().y() + (r + 0.5) * pitch;
+      const double x = extent.min().x() + (c + 0.5) * pitch,
+                   y = extent.min().y() + (r + 0.5) * pitch;
       CHECK(value == (board->Albedo(x, y) > 0.5 ? 255 : 0));
       ++compared;
     }
@@ -81,8 +82,8 @@ TEST_CASE("target draws the default ChArUco sheet at the given dpi with its targ
 TEST_CASE("target draws a configured AprilGrid; options must fit the type", "[cli][target]") {
   const std::string dir = test::TempDir("target_aprilgrid");
   std::string out;
-  REQUIRE(test::RunHandeye("target aprilgrid --tags 3x2 --tag-size 0.04 --tag-spacing 0.3 -o " + dir +
-                               "/grid.png",
+  REQUIRE(test::RunHandeye("target aprilgrid --tags 3x2 --tag-size 0.04 --tag-spacing 0.3 -o " +
+                               dir + "/grid.png",
                            &out) == 0);
   INFO(out);
   const auto target = TargetFromFile(dir + "/grid.json");
@@ -96,7 +97,8 @@ TEST_CASE("target draws a configured AprilGrid; options must fit the type", "[cl
   CHECK(PixelsPerMetre(ReadBytes(dir + "/grid.png")) == 11811);  // 300 dpi
 
   // The written target object draws the same sheet again.
-  REQUIRE(test::RunHandeye("target --target-json " + dir + "/grid.json -o " + dir + "/again.png", &out) == 0);
+  REQUIRE(test::RunHandeye("target --target-json " + dir + "/grid.json -o " + dir + "/again.png",
+                           &out) == 0);
   CHECK(ReadBytes(dir + "/again.png") == ReadBytes(dir + "/grid.png"));
 
   const std::vector<std::pair<std::string, std::string>> bad = {
@@ -126,15 +128,18 @@ TEST_CASE("simulate renders ChArUco and AprilGrid cells that calibrate like the 
     INFO(type);
     const std::string dir = test::TempDir("simulate_" + type);
     std::string out;
-    REQUIRE(test::RunHandeye("simulate " + dir + "/sim --cell small --cameras 3 --poses 10 --seed 4 --target " +
+    REQUIRE(test::RunHandeye("simulate " + dir +
+                                 "/sim --cell small --cameras 3 --poses 10 --seed 4 --target " +
                                  type,
                              &out) == 0);
     INFO(out);
     const Dataset dataset = LoadDataset(dir + "/sim/dataset.json");
     CHECK(dataset.target->Type() == type);
-    REQUIRE(test::RunHandeye("calibrate " + dir + "/sim/dataset.json -o " + dir + "/result.json", &out) == 0);
-    REQUIRE(test::RunHandeye("evaluate " + dir + "/result.json " + dir + "/sim/ground_truth.json --json", &out) ==
-            0);
+    REQUIRE(test::RunHandeye("calibrate " + dir + "/sim/dataset.json -o " + dir + "/result.json",
+                             &out) == 0);
+    REQUIRE(test::RunHandeye(
+                "evaluate " + dir + "/result.json " + dir + "/sim/ground_truth.json --json",
+                &out) == 0);
     const nlohmann::json eval = nlohmann::json::parse(out.substr(out.find('{')));
     CHECK(eval["mean_translation_mm"].get<double>() < 5.0);
     CHECK(eval["mean_rotation_deg"].get<double>() < 0.1);
@@ -144,10 +149,12 @@ TEST_CASE("simulate renders ChArUco and AprilGrid cells that calibrate like the 
 
 TEST_CASE("simulate --target-json takes any target object", "[cli][target][simulate]") {
   const std::string dir = test::TempDir("simulate_target_json");
-  test::WriteText(dir + "/target.json",
-                  R"({"type": "aprilgrid", "tagCols": 5, "tagRows": 4, "tagSize": 0.045, "tagSpacing": 0.3})");
+  test::WriteText(
+      dir + "/target.json",
+      R"({"type": "aprilgrid", "tagCols": 5, "tagRows": 4, "tagSize": 0.045, "tagSpacing": 0.3})");
   std::string out;
-  REQUIRE(test::RunHandeye("simulate " + dir + "/sim --cameras 1 --poses 2 --image-size 640x360 --target-json " +
+  REQUIRE(test::RunHandeye("simulate " + dir +
+                               "/sim --cameras 1 --poses 2 --image-size 640x360 --target-json " +
                                dir + "/target.json",
                            &out) == 0);
   INFO(out);
@@ -156,6 +163,8 @@ TEST_CASE("simulate --target-json takes any target object", "[cli][target][simul
   REQUIRE(grid);
   CHECK(grid->tags_x() == 5);
   CHECK(grid->tag_size_m() == 0.045);
-  CHECK(test::RunHandeye("simulate " + dir + "/sim2 --target-json " + dir + "/target.json --board 7x4", &out) == 2);
+  CHECK(test::RunHandeye(
+            "simulate " + dir + "/sim2 --target-json " + dir + "/target.json --board 7x4", &out) ==
+        2);
   CHECK_THAT(out, Catch::Contains("not both"));
 }
