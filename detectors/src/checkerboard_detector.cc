@@ -52,24 +52,39 @@ bool LooksLikeXJunction(const cv::Mat& gray, const cv::Point2d& c, double radius
   return std::abs(h1) < 0.5 * std::abs(h2);
 }
 
-/// Distance (px) from grid point (a, b) to its nearest grid neighbour: the
-/// scale of its squares in the image.
-double NearestNeighbourDistance(const Grid& grid, int a, int b) {
+/// Distance (px) from grid point (a, b) to the nearest grid line that does
+/// not pass through it: the largest window whose edges all point at this
+/// corner. For each pair of neighbours along the two grid directions, steps u
+/// and v span a cell; the lines through the neighbours, parallel to the other
+/// direction, are the cell's heights |u x v| / |v| and |u x v| / |u| away. On
+/// a square seen head-on that is the side; on a board seen obliquely (cells
+/// sheared to 40-60 degrees) it is much less than the distance to the nearest
+/// corner, which let the window take in a parallel edge and pulled the
+/// estimate off by pixels.
+double NearestLineDistance(const Grid& grid, int a, int b) {
   double nearest = std::numeric_limits<double>::infinity();
   const cv::Point2d p = grid.At(a, b);
-  if (a > 0) nearest = std::min(nearest, cv::norm(grid.At(a - 1, b) - p));
-  if (a + 1 < grid.cols) nearest = std::min(nearest, cv::norm(grid.At(a + 1, b) - p));
-  if (b > 0) nearest = std::min(nearest, cv::norm(grid.At(a, b - 1) - p));
-  if (b + 1 < grid.rows) nearest = std::min(nearest, cv::norm(grid.At(a, b + 1) - p));
+  for (const int da : {-1, 1}) {
+    if (a + da < 0 || a + da >= grid.cols) continue;
+    const cv::Point2d u = grid.At(a + da, b) - p;
+    for (const int db : {-1, 1}) {
+      if (b + db < 0 || b + db >= grid.rows) continue;
+      const cv::Point2d v = grid.At(a, b + db) - p;
+      const double area = std::abs(u.x * v.y - u.y * v.x);
+      nearest = std::min(
+          {nearest, area / std::max(cv::norm(u), 1e-9), area / std::max(cv::norm(v), 1e-9)});
+    }
+  }
   return nearest;
 }
 
-/// Refinement window radius as a fraction of the distance to the nearest
-/// corner, and its bounds in pixels. Measured on rendered boards (10-60 px
-/// squares, blur 0.5-1 px, noise 2 grey levels): 0.7 beat 0.4-0.6 for small
-/// squares (the neighbours' edges on the same grid lines still point at this
-/// corner, and the Gaussian weight fades the others), and larger windows stop
-/// helping past about 25 px.
+/// Refinement window radius as a fraction of the distance to the nearest grid
+/// line not through the corner (NearestLineDistance; on squares seen head-on,
+/// the distance to the nearest corner), and its bounds in pixels. Measured on
+/// rendered boards seen nearly head-on (10-60 px squares, blur 0.5-1 px, noise
+/// 2 grey levels): 0.7 beat 0.4-0.6 for small squares (the neighbours' edges
+/// on the same grid lines still point at this corner, and the Gaussian weight
+/// fades the others), and larger windows stop helping past about 25 px.
 constexpr double kWindowFraction = 0.7;
 constexpr double kMinRadiusPx = 2.0;
 constexpr double kMaxRadiusPx = 25.0;
@@ -139,7 +154,7 @@ bool RefineGrid(const cv::Mat& gray, Grid* grid) {
   std::vector<cv::Point2f> refined(grid->px.size());
   for (int b = 0; b < grid->rows; ++b) {
     for (int a = 0; a < grid->cols; ++a) {
-      const double radius = std::clamp(kWindowFraction * NearestNeighbourDistance(*grid, a, b),
+      const double radius = std::clamp(kWindowFraction * NearestLineDistance(*grid, a, b),
                                        kMinRadiusPx, kMaxRadiusPx);
       cv::Point2d corner = grid->At(a, b);
       if (!RefineCorner(gx, gy, box.tl(), radius, &corner)) return false;
@@ -152,51 +167,177 @@ bool RefineGrid(const cv::Mat& gray, Grid* grid) {
   return true;
 }
 
+/// Integer factors of the image pyramid searched, coarsest first. The sector
+/// detector's cost grows with the pixels it looks at (about 25, 70 and 285 ms
+/// of CPU for one 1920x1080 image at 1/4, 1/2 and full resolution), and it
+/// finds squares from about 8 px up, so most boards of 30 px squares and more
+/// are found at 1/4; the finer levels are for smaller squares and for boards
+/// the coarser levels missed. (On METRIC's synthetic cell, 368 views of 30-40
+/// px squares, 1/4 alone found 269 boards, 1/2 alone 322; a 1/3 level between
+/// them saved no time overall.)
+constexpr int kFactors[] = {4, 2, 1};
+/// A level whose shorter side would be smaller than this is skipped: the
+/// sector detector ignores a border of up to 2 windows (33 px each at its
+/// largest scale), so such a level holds too little image to be worth it.
+constexpr int kMinLevelSide = 240;
+/// Squares of margin kept around a grid that was found but rejected, when the
+/// same board is searched again in a crop: a grid shifted by one line (see
+/// FindGrid) needs one more square, and the sector detector needs white
+/// around the board's outer corners.
+constexpr double kCropMarginSquares = 2.5;
+/// ... and at least this many pixels of the level searched, for the detector's
+/// ignored border (see kMinLevelSide).
+constexpr int kCropMarginMinPx = 40;
+
+/// One level of the pyramid: the image scaled down by `factor` with every
+/// pixel the mean of a factor x factor block, so that level pixel k has its
+/// centre at factor * k + (factor - 1) / 2 in the full image (pixel centres
+/// at integers, SPEC §2). The full image is cut to a multiple of the factor
+/// first (at most factor - 1 pixels lost on the right and bottom), which keeps
+/// that mapping exact.
+struct Level {
+  int factor = 1;
+  cv::Mat image;
+};
+
+Level MakeLevel(const cv::Mat& gray, int factor) {
+  Level level;
+  level.factor = factor;
+  if (factor == 1) {
+    level.image = gray;
+    return level;
+  }
+  const cv::Size size(gray.cols / factor, gray.rows / factor);
+  cv::resize(gray(cv::Rect(0, 0, size.width * factor, size.height * factor)), level.image, size, 0,
+             0, cv::INTER_AREA);
+  return level;
+}
+
+/// Median distance (px) between grid neighbours: the size of a square. The
+/// median, as a wrong grid may join a few corners of clutter far apart.
+double MedianSquare(const Grid& grid) {
+  std::vector<double> sides;
+  for (int b = 0; b < grid.rows; ++b) {
+    for (int a = 0; a < grid.cols; ++a) {
+      if (a + 1 < grid.cols) sides.push_back(cv::norm(grid.At(a + 1, b) - grid.At(a, b)));
+      if (b + 1 < grid.rows) sides.push_back(cv::norm(grid.At(a, b + 1) - grid.At(a, b)));
+    }
+  }
+  std::nth_element(sides.begin(), sides.begin() + sides.size() / 2, sides.end());
+  return sides[sides.size() / 2];
+}
+
+/// A grid that was found but rejected: the full-image region around it, and
+/// whether it is the board itself (most of its corners are X-junctions, not
+/// clutter) rather than something else that the detector took for one.
+struct Candidate {
+  cv::Rect region;
+  bool board = false;
+};
+
 /// The full grid of inner corners, refined and verified, or nullopt.
 ///
 /// OpenCV's sector-based detector (findChessboardCornersSB) is used because
 /// the classic cv::findChessboardCorners took 4-15 s on cluttered 1920x1080
 /// images with no board or a partly visible one, even with
-/// CALIB_CB_FAST_CHECK. Large images are tried at half resolution first
-/// (about 4x faster); full resolution is the fallback, for small squares.
+/// CALIB_CB_FAST_CHECK. It is run coarse to fine (kFactors): the first level
+/// where it finds a grid that passes verification at full resolution wins, so
+/// the common case costs one search at 1/4 resolution plus the refinement on
+/// the board's bounding box. The corners are always refined on the full image
+/// by RefineGrid, from wherever the level put them.
+///
 /// Without CALIB_CB_ACCURACY, SB sometimes returns a grid shifted by one line
 /// onto the ends of the outer black squares (seen on a board turned by about
-/// 90°); verification rejects such a grid, and only then is the same image
-/// searched again with CALIB_CB_ACCURACY, which is several times slower.
+/// 90°); verification rejects such a grid. CALIB_CB_ACCURACY (the detector on
+/// a 2x upsampled image, several times slower) then searches again, but only
+/// a crop around the rejected grid, and every finer level searches the crops
+/// of the grids rejected so far before the whole image, so a board that was
+/// seen but not verified costs crops rather than whole images. The whole image
+/// is still searched at every level, for boards the coarser levels did not see
+/// at all (small squares) or saw only as clutter; only the full-resolution
+/// one, a quarter of a second, is left out once a rejected grid was the board
+/// itself: it can only find a second board, and a calibration target is one.
 std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
   const cv::Size pattern(cols, rows);
   const int flags = cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_EXHAUSTIVE;
+  const cv::Rect whole_image(0, 0, gray.cols, gray.rows);
   Grid grid;
   grid.cols = cols;
   grid.rows = rows;
-  // One search at one scale: found (and refined and verified), or why not.
+  std::vector<Candidate> candidates;
+
+  // One search of `region` (full-image pixels) of one level: found (refined
+  // and verified), nothing found, or a grid found but rejected, which is then
+  // added to `candidates` unless one already covers it.
   enum class Outcome { kFound, kNone, kRejected };
-  auto search = [&](const cv::Mat& image, double scale, int extra_flags) {
+  auto search = [&](const Level& level, cv::Rect region, int extra_flags) {
+    const int f = level.factor;
+    // The region in level pixels: every level pixel whose block lies in it.
+    const int x0 = (region.x + f - 1) / f, y0 = (region.y + f - 1) / f;
+    const cv::Rect crop =
+        cv::Rect(x0, y0, (region.x + region.width) / f - x0, (region.y + region.height) / f - y0) &
+        cv::Rect(0, 0, level.image.cols, level.image.rows);
+    if (crop.width < 3 * cols || crop.height < 3 * rows) return Outcome::kNone;
     std::vector<cv::Point2f> found;
-    if (!cv::findChessboardCornersSB(image, pattern, found, flags | extra_flags))
+    if (!cv::findChessboardCornersSB(level.image(crop), pattern, found, flags | extra_flags))
       return Outcome::kNone;
     if (found.size() != static_cast<size_t>(cols) * rows) return Outcome::kNone;
-    // A pixel k of an image scaled by 1/2 averages full pixels 2k and 2k + 1
-    // (centres at integers, SPEC §2), so its centre is at 2k + 0.5.
-    const float offset = static_cast<float>(0.5 * (scale - 1));
-    for (auto& p : found) p = static_cast<float>(scale) * p + cv::Point2f(offset, offset);
+    // Crop pixel k is level pixel k + crop offset (an integer shift); level
+    // pixel k has its centre at f k + (f - 1) / 2 in the full image.
+    const float offset = 0.5f * static_cast<float>(f - 1);
+    for (auto& p : found)
+      p = static_cast<float>(f) * (p + cv::Point2f(crop.tl())) + cv::Point2f(offset, offset);
     // SB lists the corners row by row, cols per row (checked on boards and
     // images turned by every quarter turn); which way round, and so the
     // handedness, is left to Detect().
     grid.px = std::move(found);
-    return RefineGrid(gray, &grid) ? Outcome::kFound : Outcome::kRejected;
+    const Grid seen = grid;
+    if (RefineGrid(gray, &grid)) return Outcome::kFound;
+
+    const double square = MedianSquare(seen);
+    const int margin = static_cast<int>(std::ceil(
+        std::max(kCropMarginSquares * square, static_cast<double>(kCropMarginMinPx * f))));
+    const cv::Rect box = cv::boundingRect(seen.px);
+    const cv::Rect around =
+        cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) &
+        whole_image;
+    // The same board rejected again (at another level) is searched once.
+    for (const Candidate& c : candidates)
+      if (2 * (c.region & around).area() > std::min(c.region.area(), around.area()))
+        return Outcome::kRejected;
+    // The board itself, seen but not verified (as on boards seen very
+    // obliquely), if three quarters of its corners are X-junctions even
+    // before refinement.
+    int junctions = 0;
+    for (const auto& p : seen.px) junctions += LooksLikeXJunction(gray, p, 0.35 * square);
+    candidates.push_back({around, 4 * junctions >= 3 * static_cast<int>(seen.px.size())});
+    return Outcome::kRejected;
   };
-  auto search_scale = [&](const cv::Mat& image, double scale) {
-    const Outcome outcome = search(image, scale, 0);
-    if (outcome != Outcome::kRejected) return outcome == Outcome::kFound;
-    return search(image, scale, cv::CALIB_CB_ACCURACY) == Outcome::kFound;
-  };
-  if (std::min(gray.cols, gray.rows) >= 720) {
-    cv::Mat half;
-    cv::resize(gray, half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
-    if (search_scale(half, 2.0)) return grid;
+
+  for (const int f : kFactors) {
+    if (f > 1 && std::min(gray.cols, gray.rows) / f < kMinLevelSide) continue;
+    const Level level = MakeLevel(gray, f);
+    // Seen but rejected at a coarser level: look there first at this one, and
+    // with the slower, more accurate corners. Grids rejected in a crop are
+    // inside it, so they add no candidate.
+    const std::size_t known = candidates.size();
+    for (const int extra : {0, static_cast<int>(cv::CALIB_CB_ACCURACY)}) {
+      for (std::size_t k = 0; k < known; ++k) {
+        if (search(level, candidates[k].region, extra) == Outcome::kFound) return grid;
+        candidates.resize(known);
+      }
+    }
+    const bool board_seen = std::any_of(candidates.begin(), candidates.end(),
+                                        [](const Candidate& c) { return c.board; });
+    if (f == 1 && board_seen) break;
+    if (search(level, whole_image, 0) == Outcome::kFound) return grid;
+    const std::size_t all = candidates.size();
+    for (std::size_t k = known; k < all; ++k) {
+      if (search(level, candidates[k].region, cv::CALIB_CB_ACCURACY) == Outcome::kFound)
+        return grid;
+      candidates.resize(all);
+    }
   }
-  if (search_scale(gray, 1.0)) return grid;
   return std::nullopt;
 }
 
