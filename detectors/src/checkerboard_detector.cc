@@ -8,7 +8,10 @@
 #include <limits>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <stdexcept>
+
+#include "saddle_regions.h"
 
 namespace handeye {
 namespace {
@@ -235,36 +238,61 @@ struct Candidate {
   bool board = false;
 };
 
+/// Regions of the full image (of size `full`) that may hold a checkerboard:
+/// the clusters of saddle points of its half-resolution image `half`, with a
+/// margin for the outer squares and the sheet's white border.
+std::vector<cv::Rect> BoardRegions(const cv::Mat& half, const cv::Size& full) {
+  std::vector<cv::Rect> regions;
+  for (const internal::SaddleRegion& cluster :
+       internal::SaddleRegions(half, internal::SaddleRegionOptions{})) {
+    // Half pixel k covers full pixels 2k and 2k + 1.
+    const cv::Rect box(2 * cluster.box.x, 2 * cluster.box.y, 2 * cluster.box.width + 2,
+                       2 * cluster.box.height + 2);
+    const int margin = static_cast<int>(
+        std::ceil(std::max(kCropMarginSquares * 2 * cluster.spacing, 2.0 * kCropMarginMinPx)));
+    regions.push_back(
+        cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) &
+        cv::Rect(cv::Point(0, 0), full));
+  }
+  return regions;
+}
+
 /// The full grid of inner corners, refined and verified, or nullopt.
 ///
 /// OpenCV's sector-based detector (findChessboardCornersSB) is used because
 /// the classic cv::findChessboardCorners took 4-15 s on cluttered 1920x1080
 /// images with no board or a partly visible one, even with
 /// CALIB_CB_FAST_CHECK. It is run coarse to fine (kFactors): the first level
-/// where it finds a grid that passes verification at full resolution wins, so
-/// the common case costs one search at 1/4 resolution plus the refinement on
-/// the board's bounding box. The corners are always refined on the full image
-/// by RefineGrid, from wherever the level put them.
+/// where it finds a grid that passes verification at full resolution wins. The
+/// corners are always refined on the full image by RefineGrid, from wherever
+/// the level put them.
+///
+/// At each level it looks first where a board is likely, in crops, and only
+/// then at the whole image: around the grids rejected so far (below), then
+/// around the clusters of saddle points (BoardRegions, a few ms for the whole
+/// image). A crop costs a few ms where the whole image costs 25, 70 or 285 ms
+/// (1/4, 1/2, full resolution of 1920x1080), so the common case is a crop at
+/// 1/4 plus the refinement on the board's bounding box. The whole image is
+/// still searched at every level when the crops fail: the sector detector is
+/// not monotonic in what it is shown, and it found boards in whole images (10
+/// px squares, some oblique views) that it missed in crops around them. Only
+/// the full-resolution one, a quarter of a second, is left out once a rejected
+/// grid was the board itself: it can only find a second board, and a
+/// calibration target is one.
 ///
 /// Without CALIB_CB_ACCURACY, SB sometimes returns a grid shifted by one line
 /// onto the ends of the outer black squares (seen on a board turned by about
 /// 90°); verification rejects such a grid. CALIB_CB_ACCURACY (the detector on
-/// a 2x upsampled image, several times slower) then searches again, but only
-/// a crop around the rejected grid, and every finer level searches the crops
-/// of the grids rejected so far before the whole image, so a board that was
-/// seen but not verified costs crops rather than whole images. The whole image
-/// is still searched at every level, for boards the coarser levels did not see
-/// at all (small squares) or saw only as clutter; only the full-resolution
-/// one, a quarter of a second, is left out once a rejected grid was the board
-/// itself: it can only find a second board, and a calibration target is one.
+/// a 2x upsampled image, several times slower) then searches again, only in a
+/// crop around the rejected grid, and again at every finer level.
 std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
   const cv::Size pattern(cols, rows);
   // CALIB_CB_EXHAUSTIVE tries about 3x as many corners as seeds of a grid,
-  // which finds boards among much clutter. The first search of all, the
-  // whole image at the coarsest level, goes without it when a finer level
-  // follows: that saved 5-10% of all detection time and found the same boards
-  // on METRIC's synthetic cell, and a board it misses is searched for
-  // exhaustively at the next level.
+  // which finds boards among much clutter. The first whole image searched,
+  // at the coarsest level, goes without it when a finer level follows: that
+  // saved 5-10% of all detection time and found the same boards on METRIC's
+  // synthetic cell, and a board it misses is searched for exhaustively at the
+  // next level.
   const int quick = cv::CALIB_CB_NORMALIZE_IMAGE;
   const int thorough = quick | cv::CALIB_CB_EXHAUSTIVE;
   const int accurate = thorough | cv::CALIB_CB_ACCURACY;
@@ -322,10 +350,33 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
     return Outcome::kRejected;
   };
 
+  // The half-resolution image, made once: a level, and where saddle points
+  // are looked for.
+  cv::Mat half;
+  auto level_of = [&](int f) {
+    if (f != 2) return MakeLevel(gray, f);
+    if (half.empty()) half = MakeLevel(gray, 2).image;
+    return Level{2, half};
+  };
+  // Full-image regions around clusters of saddle points.
+  std::optional<std::vector<cv::Rect>> saddle_regions;
+  auto covered = [&](const cv::Rect& region, std::size_t num_candidates) {
+    for (std::size_t k = 0; k < num_candidates; ++k) {
+      const cv::Rect& c = candidates[k].region;
+      if (2 * (c & region).area() > std::min(c.area(), region.area())) return true;
+    }
+    return false;
+  };
+
   bool first = true;
   for (const int f : kFactors) {
     if (f > 1 && std::min(gray.cols, gray.rows) / f < kMinLevelSide) continue;
-    const Level level = MakeLevel(gray, f);
+    const Level level = level_of(f);
+    // The saddle points are looked for in the half-resolution image, before
+    // the first level when another follows (an image too small for more than
+    // one level is searched whole at once).
+    if (!saddle_regions && (f > 1 || !first))
+      saddle_regions = BoardRegions(level_of(2).image, gray.size());
     // Seen but rejected at a coarser level: look there first at this one, and
     // with the slower, more accurate corners. Grids rejected in a crop are
     // inside it, so they add no candidate.
@@ -336,11 +387,21 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
         candidates.resize(known);
       }
     }
+    // Then where the saddle points are; grids rejected there become
+    // candidates.
+    if (saddle_regions) {
+      for (const cv::Rect& region : *saddle_regions)
+        if (!covered(region, known) && search(level, region, thorough) == Outcome::kFound)
+          return grid;
+    }
+    // The whole image, except at full resolution once a rejected grid was the
+    // board.
     const bool board_seen = std::any_of(candidates.begin(), candidates.end(),
                                         [](const Candidate& c) { return c.board; });
-    if (f == 1 && board_seen) break;
-    const int whole_flags = first && f > 1 ? quick : thorough;
-    if (search(level, whole_image, whole_flags) == Outcome::kFound) return grid;
+    if (f > 1 || !board_seen) {
+      const int whole_flags = first && f > 1 ? quick : thorough;
+      if (search(level, whole_image, whole_flags) == Outcome::kFound) return grid;
+    }
     first = false;
     const std::size_t all = candidates.size();
     for (std::size_t k = known; k < all; ++k) {

@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "saddle_regions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <opencv2/imgproc.hpp>
+
+namespace handeye::internal {
+
+std::vector<SaddleRegion> SaddleRegions(const cv::Mat& gray, const SaddleRegionOptions& options) {
+  CV_Assert(gray.type() == CV_8UC1);
+  std::vector<SaddleRegion> regions;
+  const int border = 2;  // the smoothing and derivatives there see replicated pixels
+  if (gray.cols <= 2 * border || gray.rows <= 2 * border) return regions;
+
+  cv::Mat smooth;
+  gray.convertTo(smooth, CV_32F);
+  cv::GaussianBlur(smooth, smooth, cv::Size(), options.sigma_px, options.sigma_px,
+                   cv::BORDER_REPLICATE);
+  cv::Mat dxx, dyy, dxy;
+  cv::Sobel(smooth, dxx, CV_32F, 2, 0, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+  cv::Sobel(smooth, dyy, CV_32F, 0, 2, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+  cv::Sobel(smooth, dxy, CV_32F, 1, 1, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+  // Saddle strength -det(H) = Ixy^2 - Ixx Iyy. At the centre of an ideal
+  // X-junction of contrast C (squares at -C/2 and +C/2) smoothed by a Gaussian
+  // of sigma, Ixx = Iyy = 0 and Ixy = C / (pi sigma^2); the 3x3 Sobel kernels
+  // estimate each second derivative 4x over.
+  cv::Mat strength = dxy.mul(dxy) - dxx.mul(dyy);
+  const double ixy = 4.0 * options.min_contrast / (M_PI * options.sigma_px * options.sigma_px);
+  const double threshold = ixy * ixy;
+
+  // Local maxima above the threshold.
+  cv::Mat dilated;
+  cv::dilate(strength, dilated, cv::Mat());
+  cv::Mat peaks = (strength >= dilated) & (strength > threshold);
+  peaks.rowRange(0, border).setTo(0);
+  peaks.rowRange(peaks.rows - border, peaks.rows).setTo(0);
+  peaks.colRange(0, border).setTo(0);
+  peaks.colRange(peaks.cols - border, peaks.cols).setTo(0);
+  std::vector<cv::Point> points;
+  cv::findNonZero(peaks, points);
+  if (static_cast<int>(points.size()) < options.min_points) return regions;
+
+  // Single-linkage clusters: points in cells of the link distance, each
+  // compared with those of its own and the 8 neighbouring cells.
+  const double link2 = options.link_px * options.link_px;
+  const int cell = std::max(1, static_cast<int>(std::ceil(options.link_px)));
+  const int cells_x = gray.cols / cell + 1, cells_y = gray.rows / cell + 1;
+  std::vector<std::vector<int>> cells(static_cast<std::size_t>(cells_x) * cells_y);
+  for (int i = 0; i < static_cast<int>(points.size()); ++i)
+    cells[static_cast<std::size_t>(points[i].y / cell) * cells_x + points[i].x / cell].push_back(i);
+  std::vector<int> parent(points.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto root = [&parent](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  // Distance from each point to its nearest neighbour within the link.
+  std::vector<double> nearest2(points.size(), link2);
+  for (int i = 0; i < static_cast<int>(points.size()); ++i) {
+    const int cx = points[i].x / cell, cy = points[i].y / cell;
+    for (int y = std::max(0, cy - 1); y <= std::min(cells_y - 1, cy + 1); ++y) {
+      for (int x = std::max(0, cx - 1); x <= std::min(cells_x - 1, cx + 1); ++x) {
+        for (const int j : cells[static_cast<std::size_t>(y) * cells_x + x]) {
+          if (j == i) continue;
+          const double dx = points[i].x - points[j].x, dy = points[i].y - points[j].y;
+          const double d2 = dx * dx + dy * dy;
+          if (d2 > link2) continue;
+          nearest2[i] = std::min(nearest2[i], d2);
+          parent[root(i)] = root(j);
+        }
+      }
+    }
+  }
+
+  std::vector<std::vector<int>> members(points.size());
+  for (int i = 0; i < static_cast<int>(points.size()); ++i) members[root(i)].push_back(i);
+  for (const auto& cluster : members) {
+    if (static_cast<int>(cluster.size()) < options.min_points) continue;
+    std::vector<cv::Point> cluster_points;
+    std::vector<double> spacing;
+    for (const int i : cluster) {
+      cluster_points.push_back(points[i]);
+      spacing.push_back(std::sqrt(nearest2[i]));
+    }
+    std::nth_element(spacing.begin(), spacing.begin() + spacing.size() / 2, spacing.end());
+    regions.push_back({cv::boundingRect(cluster_points), spacing[spacing.size() / 2],
+                       static_cast<int>(cluster.size())});
+  }
+  std::sort(regions.begin(), regions.end(),
+            [](const SaddleRegion& a, const SaddleRegion& b) { return a.points > b.points; });
+  if (static_cast<int>(regions.size()) > options.max_regions) regions.resize(options.max_regions);
+  return regions;
+}
+
+}  // namespace handeye::internal

@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+// Where in an image a checkerboard may be: clusters of saddle points, found
+// in a few milliseconds, so that the checkerboard detector can search crops
+// instead of whole images at fine resolution. Internal to the detectors
+// library.
+
+#include <opencv2/core/mat.hpp>
+#include <vector>
+
+namespace handeye::internal {
+
+/// How SaddleRegions() looks for clusters of X-junctions.
+struct SaddleRegionOptions {
+  /// Gaussian smoothing before the second derivatives, in pixels of the
+  /// image searched: 1 px suits squares of 4 px and more there.
+  double sigma_px = 1.0;
+  /// Weakest X-junction kept: the grey-level difference between its dark and
+  /// light squares. Boards printed black on white and seen through a lens
+  /// have 100-200; shadows and glare rarely take them below 40.
+  double min_contrast = 20.0;
+  /// Saddle points no farther apart than this (pixels of the image searched)
+  /// join one cluster: neighbouring corners of squares up to this size.
+  double link_px = 24.0;
+  /// Fewest saddle points in a cluster worth searching.
+  int min_points = 6;
+  /// Most clusters returned (those with the most points).
+  int max_regions = 8;
+};
+
+/// One cluster of saddle points (pixels of the image searched).
+struct SaddleRegion {
+  cv::Rect box;    ///< bounding box of the points
+  double spacing;  ///< median distance from a point to its nearest neighbour
+  int points;      ///< number of points
+};
+
+/// The clusters of saddle points of `gray` (8-bit, single channel),
+/// smoothed: points where the grey level's Hessian has a strongly negative
+/// determinant, as at the X-junction where four squares of a checkerboard meet
+/// (straight edges give none, and an L corner little). Largest clusters first.
+std::vector<SaddleRegion> SaddleRegions(const cv::Mat& gray, const SaddleRegionOptions& options);
+
+}  // namespace handeye::internal
