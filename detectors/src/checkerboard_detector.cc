@@ -183,10 +183,10 @@ constexpr int kFactors[] = {4, 2, 1};
 /// sector detector ignores a border of up to 2 windows (33 px each at its
 /// largest scale), so such a level holds too little image to be worth it.
 constexpr int kMinLevelSide = 240;
-/// Squares of margin kept around a grid that was found but rejected, when the
-/// same board is searched again in a crop: a grid shifted by one line (see
-/// FindGrid) needs one more square, and the sector detector needs white
-/// around the board's outer corners.
+/// Squares of margin kept around what may be a board's inner corners (a grid
+/// found but rejected, a cluster of saddle points) when it is searched in a
+/// crop: the outer squares, one more for a grid shifted by one line (see
+/// FindGrid), and white around the board's outer corners for the detector.
 constexpr double kCropMarginSquares = 2.5;
 /// ... and at least this many pixels of the level searched, for the detector's
 /// ignored border (see kMinLevelSide).
@@ -238,21 +238,33 @@ struct Candidate {
   bool board = false;
 };
 
-/// Regions of the full image (of size `full`) that may hold a checkerboard:
-/// the clusters of saddle points of its half-resolution image `half`, with a
-/// margin for the outer squares and the sheet's white border.
-std::vector<cv::Rect> BoardRegions(const cv::Mat& half, const cv::Size& full) {
-  std::vector<cv::Rect> regions;
+/// A part of the full image that may hold a checkerboard's inner corners,
+/// and the size of its squares there (px).
+struct Region {
+  cv::Rect box;
+  double square = 0;
+};
+
+/// `region` grown by a margin for the outer squares and the sheet's white
+/// border, and for the border that the sector detector ignores at a level of
+/// `factor` (kCropMarginSquares, kCropMarginMinPx), cut to `image`.
+cv::Rect WithMargin(const Region& region, int factor, const cv::Rect& image) {
+  const int margin = static_cast<int>(std::ceil(std::max(
+      kCropMarginSquares * region.square, static_cast<double>(kCropMarginMinPx * factor))));
+  const cv::Rect& b = region.box;
+  return cv::Rect(b.x - margin, b.y - margin, b.width + 2 * margin, b.height + 2 * margin) & image;
+}
+
+/// Regions of the full image that may hold a checkerboard: the clusters of
+/// saddle points of its half-resolution image `half`.
+std::vector<Region> BoardRegions(const cv::Mat& half) {
+  std::vector<Region> regions;
   for (const internal::SaddleRegion& cluster :
        internal::SaddleRegions(half, internal::SaddleRegionOptions{})) {
     // Half pixel k covers full pixels 2k and 2k + 1.
-    const cv::Rect box(2 * cluster.box.x, 2 * cluster.box.y, 2 * cluster.box.width + 2,
-                       2 * cluster.box.height + 2);
-    const int margin = static_cast<int>(
-        std::ceil(std::max(kCropMarginSquares * 2 * cluster.spacing, 2.0 * kCropMarginMinPx)));
-    regions.push_back(
-        cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) &
-        cv::Rect(cv::Point(0, 0), full));
+    regions.push_back({cv::Rect(2 * cluster.box.x, 2 * cluster.box.y, 2 * cluster.box.width + 2,
+                                2 * cluster.box.height + 2),
+                       2 * cluster.spacing});
   }
   return regions;
 }
@@ -331,12 +343,7 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
     if (RefineGrid(gray, &grid)) return Outcome::kFound;
 
     const double square = MedianSquare(seen);
-    const int margin = static_cast<int>(std::ceil(
-        std::max(kCropMarginSquares * square, static_cast<double>(kCropMarginMinPx * f))));
-    const cv::Rect box = cv::boundingRect(seen.px);
-    const cv::Rect around =
-        cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) &
-        whole_image;
+    const cv::Rect around = WithMargin({cv::boundingRect(seen.px), square}, f, whole_image);
     // The same board rejected again (at another level) is searched once.
     for (const Candidate& c : candidates)
       if (2 * (c.region & around).area() > std::min(c.region.area(), around.area()))
@@ -358,8 +365,8 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
     if (half.empty()) half = MakeLevel(gray, 2).image;
     return Level{2, half};
   };
-  // Full-image regions around clusters of saddle points.
-  std::optional<std::vector<cv::Rect>> saddle_regions;
+  // Where the saddle points cluster.
+  std::optional<std::vector<Region>> saddle_regions;
   auto covered = [&](const cv::Rect& region, std::size_t num_candidates) {
     for (std::size_t k = 0; k < num_candidates; ++k) {
       const cv::Rect& c = candidates[k].region;
@@ -375,8 +382,7 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
     // The saddle points are looked for in the half-resolution image, before
     // the first level when another follows (an image too small for more than
     // one level is searched whole at once).
-    if (!saddle_regions && (f > 1 || !first))
-      saddle_regions = BoardRegions(level_of(2).image, gray.size());
+    if (!saddle_regions && (f > 1 || !first)) saddle_regions = BoardRegions(level_of(2).image);
     // Seen but rejected at a coarser level: look there first at this one, and
     // with the slower, more accurate corners. Grids rejected in a crop are
     // inside it, so they add no candidate.
@@ -390,9 +396,11 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
     // Then where the saddle points are; grids rejected there become
     // candidates.
     if (saddle_regions) {
-      for (const cv::Rect& region : *saddle_regions)
+      for (const Region& saddles : *saddle_regions) {
+        const cv::Rect region = WithMargin(saddles, f, whole_image);
         if (!covered(region, known) && search(level, region, thorough) == Outcome::kFound)
           return grid;
+      }
     }
     // The whole image, except at full resolution once a rejected grid was the
     // board.
