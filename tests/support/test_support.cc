@@ -2,6 +2,7 @@
 #include "support/test_support.h"
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
@@ -12,7 +13,10 @@
 namespace handeye::test {
 
 std::string TempDir(const std::string& name) {
-  const std::filesystem::path dir = std::filesystem::path(HANDEYE_TEST_TMPDIR) / name;
+  // ctest runs test cases in parallel processes, and several cases of one
+  // file may ask for the same name: the process id keeps their folders apart.
+  const std::filesystem::path dir =
+      std::filesystem::path(HANDEYE_TEST_TMPDIR) / (name + "-" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();

@@ -6,7 +6,8 @@
 
 namespace handeye::test {
 
-/// A fresh, empty folder under the build tree for one test.
+/// A fresh, empty folder under the build tree for one test, unique to this
+/// process (test cases run in parallel).
 std::string TempDir(const std::string& name);
 /// Writes text to a file (creating folders).
 void WriteText(const std::string& path, const std::string& text);
