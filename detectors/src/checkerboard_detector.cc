@@ -180,8 +180,9 @@ bool RefineGrid(const cv::Mat& gray, Grid* grid) {
 /// them saved no time overall.)
 constexpr int kFactors[] = {4, 2, 1};
 /// A level whose shorter side would be smaller than this is skipped: the
-/// sector detector ignores a border of up to 2 windows (33 px each at its
-/// largest scale), so such a level holds too little image to be worth it.
+/// sector detector looks for corners in 17 px windows at its largest scale
+/// and leaves out one to three of them at the image's borders, so such a
+/// level holds too little image to be worth it.
 constexpr int kMinLevelSide = 240;
 /// Squares of margin kept around what may be a board's inner corners (a grid
 /// found but rejected, a cluster of saddle points) when it is searched in a
