@@ -5,9 +5,6 @@
 #include <atomic>
 #include <exception>
 #include <mutex>
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 #include <optional>
 #include <stdexcept>
 #include <thread>
@@ -26,24 +23,6 @@ struct ImageTask {
   int camera = 0;
   const std::string* path = nullptr;
 };
-
-// The checkerboard detector (OpenCV's sector detector inside it) allocates
-// and frees blocks of several MB per image: rotated, filtered copies of the
-// image. glibc gives blocks that large back to the kernel when they are freed
-// (mmap threshold, heap trimming), and the next image faults the same pages in
-// again: on METRIC's synthetic cell 2.1 s of 20 s detection CPU went to the
-// kernel, 0.3 s with the blocks kept. So detection raises both thresholds,
-// once per process; freed memory (a few hundred MB at most) then stays with
-// the process for reuse until it ends.
-void KeepLargeBlocksForReuse() {
-#if defined(__GLIBC__)
-  static std::once_flag once;
-  std::call_once(once, [] {
-    mallopt(M_MMAP_THRESHOLD, 64 << 20);
-    mallopt(M_TRIM_THRESHOLD, 256 << 20);
-  });
-#endif
-}
 
 }  // namespace
 
@@ -69,7 +48,6 @@ void DetectAll(Dataset* dataset, const DetectOptions& options) {
                          "image of pose '" + pose.id + "' names unknown camera '" + camera + "'");
   }
 
-  KeepLargeBlocksForReuse();
   const std::unique_ptr<Detector> detector = MakeDetector(dataset->target);
   std::vector<std::optional<Detection>> found(tasks.size());
 
