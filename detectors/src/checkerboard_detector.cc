@@ -5,8 +5,10 @@
 #include <array>
 #include <cmath>
 #include <complex>
+#include <cstdint>
 #include <limits>
 #include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <stdexcept>
@@ -481,6 +483,9 @@ std::optional<int> BlackParity(const cv::Mat& gray, const Grid& g) {
   return means[0] < means[1] ? 0 : 1;
 }
 
+/// OpenCV's random state at the start of every detection.
+constexpr std::uint64_t kRandomState = 0x5eed;
+
 }  // namespace
 
 CheckerboardDetector::CheckerboardDetector(std::shared_ptr<const CheckerboardTarget> target)
@@ -492,7 +497,15 @@ std::optional<Detection> CheckerboardDetector::Detect(const cv::Mat& gray) const
   if (gray.empty() || gray.type() != CV_8UC1)
     throw std::invalid_argument("CheckerboardDetector: expected an 8-bit single-channel image");
   const int cols = target_->cols(), rows = target_->rows();
+  // The sector detector draws from the calling thread's cv::theRNG(), so its
+  // corners depended on what that thread had done before (with several
+  // detection threads, on which worker took which image): every image starts
+  // from the same state, and the caller's state is put back.
+  cv::RNG& rng = cv::theRNG();
+  const std::uint64_t callers_state = rng.state;
+  rng.state = kRandomState;
   auto grid_or_none = FindGrid(gray, cols, rows);
+  rng.state = callers_state;
   if (!grid_or_none) return std::nullopt;
   const Grid& grid = *grid_or_none;
 
