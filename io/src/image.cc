@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "handeye/io/image.h"
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "handeye/core/error.h"
 #include "handeye/io/atomic_file.h"
+#include "png_reader.h"
 
 namespace handeye {
 
@@ -14,7 +17,13 @@ cv::Mat LoadGrayImage(const std::string& path, const Camera& camera) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw InputError(path, "", "image file does not exist (camera '" + camera.name + "')");
-  cv::Mat image = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::optional<cv::Mat> fast;
+  if (extension == ".png") fast = internal::ReadPng8(path);
+  cv::Mat image =
+      fast ? std::move(*fast) : cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
   if (image.empty())
     throw InputError(path, "", "unreadable image: expected a PNG, JPEG or TIFF file");
   if (image.cols != camera.width || image.rows != camera.height)
