@@ -122,6 +122,15 @@ Bytes RandomPixels(std::size_t n, std::uint32_t seed) {
   return pixels;
 }
 
+/// The camera of the 37 x 23 images below (LoadGrayImage checks the size).
+Camera SmallCamera() {
+  Camera camera;
+  camera.name = "cam";
+  camera.width = 37;
+  camera.height = 23;
+  return camera;
+}
+
 bool SameImage(const cv::Mat& a, const cv::Mat& b) {
   return a.size() == b.size() && a.type() == b.type() && cv::norm(a, b, cv::NORM_INF) == 0;
 }
@@ -174,10 +183,7 @@ TEST_CASE("PNG reader decodes OpenCV's own compressed PNGs", "[png]") {
 
 TEST_CASE("PNG reader leaves what it does not handle to OpenCV", "[png]") {
   const std::string dir = test::TempDir("png_reader_fallback");
-  Camera camera;
-  camera.name = "cam";
-  camera.width = 37;
-  camera.height = 23;
+  const Camera camera = SmallCamera();
   const Bytes pixels = RandomPixels(37 * 23, 5);
 
   // 16-bit: OpenCV reads it, LoadGrayImage scales it to 8 bits.
@@ -218,10 +224,7 @@ TEST_CASE("PNG reader leaves what it does not handle to OpenCV", "[png]") {
 
 TEST_CASE("LoadGrayImage gives the same grey through either reader", "[png]") {
   const std::string dir = test::TempDir("png_reader_grey");
-  Camera camera;
-  camera.name = "cam";
-  camera.width = 37;
-  camera.height = 23;
+  const Camera camera = SmallCamera();
   for (const int channels : {1, 3, 4}) {
     const std::string path = dir + "/c" + std::to_string(channels) + ".png";
     WriteBytes(path, EncodePng(37, 23, channels,
