@@ -2,17 +2,14 @@
 #include "handeye/io/detection.h"
 
 #include <algorithm>
-#include <atomic>
-#include <exception>
-#include <mutex>
 #include <optional>
 #include <stdexcept>
-#include <thread>
 #include <vector>
 
 #include "handeye/core/error.h"
 #include "handeye/detectors/registry.h"
 #include "handeye/io/image.h"
+#include "parallel.h"
 
 namespace handeye {
 namespace {
@@ -51,48 +48,15 @@ void DetectAll(Dataset* dataset, const DetectOptions& options) {
   const std::unique_ptr<Detector> detector = MakeDetector(dataset->target);
   std::vector<std::optional<Detection>> found(tasks.size());
 
-  unsigned threads = options.threads > 0 ? static_cast<unsigned>(options.threads)
-                                         : std::max(1u, std::thread::hardware_concurrency());
-  threads =
-      static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(1, tasks.size())));
-
-  std::atomic<std::size_t> next{0};
-  std::atomic<bool> stop{false};
-  std::mutex mutex;  // guards first_error, done and the progress callback
-  std::exception_ptr first_error;
-  std::size_t done = 0;
-
-  auto worker = [&]() {
-    while (!stop.load()) {
-      const std::size_t i = next.fetch_add(1);
-      if (i >= tasks.size()) return;
-      try {
+  // One image per worker in memory at a time: datasets may hold thousands of
+  // full-resolution images.
+  internal::ParallelFor(
+      tasks.size(), options.threads,
+      [&](std::size_t i) {
         const ImageTask& task = tasks[i];
-        // One image per worker in memory at a time: datasets may hold
-        // thousands of full-resolution images.
-        const cv::Mat gray = LoadGrayImage(*task.path, dataset->cameras[task.camera]);
-        found[i] = detector->Detect(gray);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (!first_error) first_error = std::current_exception();
-        stop.store(true);
-        return;
-      }
-      std::lock_guard<std::mutex> lock(mutex);
-      ++done;
-      if (options.progress && !stop.load()) options.progress(done, tasks.size());
-    }
-  };
-
-  if (threads <= 1) {
-    worker();
-  } else {
-    std::vector<std::thread> pool;
-    pool.reserve(threads);
-    for (unsigned t = 0; t < threads; ++t) pool.emplace_back(worker);
-    for (auto& t : pool) t.join();
-  }
-  if (first_error) std::rethrow_exception(first_error);
+        found[i] = detector->Detect(LoadGrayImage(*task.path, dataset->cameras[task.camera]));
+      },
+      options.progress);
 
   dataset->observations.clear();
   for (std::size_t i = 0; i < tasks.size(); ++i) {

@@ -8,19 +8,16 @@
 #include "handeye/io/simulation.h"
 
 #include <algorithm>
-#include <atomic>
-#include <exception>
 #include <filesystem>
 #include <memory>
-#include <mutex>
 #include <optional>
-#include <thread>
 #include <vector>
 
 #include "handeye/core/error.h"
 #include "handeye/io/dataset_json.h"
 #include "handeye/detectors/registry.h"
 #include "handeye/io/image.h"
+#include "parallel.h"
 
 namespace handeye {
 namespace {
@@ -69,44 +66,19 @@ void RenderViews(const SyntheticScene& scene, const std::vector<View>& views, co
   if (!scene.dataset.target) throw std::invalid_argument("scene without a target");
   if (scene.truth.poses.size() != scene.dataset.poses.size())
     throw std::invalid_argument("scene truth does not match its poses");
-  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  threads = static_cast<int>(std::min<std::size_t>(threads, std::max<std::size_t>(1, views.size())));
-
-  std::atomic<std::size_t> next{0};
-  std::atomic<bool> failed{false};
-  std::mutex mutex;  // guards done, first_error and the progress callback
-  std::size_t done = 0;
-  std::exception_ptr first_error;
-  auto work = [&]() {
-    while (!failed) {
-      const std::size_t i = next++;
-      if (i >= views.size()) return;
-      const View& view = views[i];
-      try {
+  internal::ParallelFor(
+      views.size(), threads,
+      [&](std::size_t i) {
+        const View& view = views[i];
         RenderOptions options = render;
         options.seed = Mix(render.seed ^ Mix(view.pose * 0x10001u + view.camera));
         options.blur_sigma_px = CameraBlur(render.blur_sigma_px, render.seed, view.camera);
-        const cv::Mat image =
-            RenderView(scene.dataset.cameras[view.camera], *scene.dataset.target,
-                       TrueCameraFromTarget(scene, static_cast<int>(view.camera), static_cast<int>(view.pose)),
-                       options);
-        sink(i, image);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (!first_error) first_error = std::current_exception();
-        failed = true;
-        return;
-      }
-      std::lock_guard<std::mutex> lock(mutex);
-      ++done;
-      if (progress) progress(done, views.size());
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& thread : pool) thread.join();
-  if (first_error) std::rethrow_exception(first_error);
+        sink(i, RenderView(scene.dataset.cameras[view.camera], *scene.dataset.target,
+                           TrueCameraFromTarget(scene, static_cast<int>(view.camera),
+                                                static_cast<int>(view.pose)),
+                           options));
+      },
+      progress);
 }
 
 }  // namespace
