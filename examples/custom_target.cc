@@ -127,12 +127,7 @@ int main(int argc, char** argv) {
   const std::string outdir = argc > 1 ? argv[1] : "dot_grid_cell";
 
   // 1. Register the plugin before anything reads a dataset with this type.
-  RegisterTargetPlugin({"dot_grid",
-                        [](const TargetSpec& spec) { return std::make_shared<const DotGridTarget>(spec); },
-                        [](std::shared_ptr<const Target> target) -> std::unique_ptr<Detector> {
-                          return std::make_unique<DotGridDetector>(
-                              std::dynamic_pointer_cast<const DotGridTarget>(target));
-                        }});
+  RegisterTargetPlugin(MakeTargetPlugin<DotGridTarget, DotGridDetector>("dot_grid"));
 
   // 2. Images of a simulated cell (with yours: skip this step).
   TargetSpec spec;

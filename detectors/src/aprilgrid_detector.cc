@@ -94,18 +94,6 @@ std::shared_ptr<const AprilGridTarget> MakeAprilGridTarget(const TargetSpec& spe
   return target;
 }
 
-TargetPlugin AprilGridPlugin() {
-  return {"aprilgrid",
-          [](const TargetSpec& spec) -> std::shared_ptr<const Target> {
-            return MakeAprilGridTarget(spec);
-          },
-          [](std::shared_ptr<const Target> target) -> std::unique_ptr<Detector> {
-            auto grid = std::dynamic_pointer_cast<const AprilGridTarget>(target);
-            if (!grid) throw std::invalid_argument("aprilgrid plugin: not an AprilGridTarget");
-            return std::make_unique<AprilGridDetector>(std::move(grid));
-          }};
-}
-
 bool AprilGridDetector::Options::Check(std::string* why) const {
   auto fail = [why](const std::string& reason) {
     if (why) *why = reason;

@@ -98,18 +98,6 @@ std::shared_ptr<const CharucoTarget> MakeCharucoTarget(const TargetSpec& spec) {
   return target;
 }
 
-TargetPlugin CharucoPlugin() {
-  return {"charuco",
-          [](const TargetSpec& spec) -> std::shared_ptr<const Target> {
-            return MakeCharucoTarget(spec);
-          },
-          [](std::shared_ptr<const Target> target) -> std::unique_ptr<Detector> {
-            auto charuco = std::dynamic_pointer_cast<const CharucoTarget>(target);
-            if (!charuco) throw std::invalid_argument("charuco plugin: not a CharucoTarget");
-            return std::make_unique<CharucoDetector>(std::move(charuco));
-          }};
-}
-
 bool CharucoDetector::Options::Check(std::string* why) const {
   auto fail = [why](const std::string& reason) {
     if (why) *why = reason;

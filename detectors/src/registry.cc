@@ -17,14 +17,9 @@ std::map<std::string, TargetPlugin> BuiltinPlugins() {
   std::map<std::string, TargetPlugin> plugins;
   auto add = [&plugins](TargetPlugin p) { plugins[p.type] = std::move(p); };
   // One line per built-in target type.
-  add({"checkerboard",
-       [](const TargetSpec& s) { return std::make_shared<const CheckerboardTarget>(s); },
-       [](std::shared_ptr<const Target> t) -> std::unique_ptr<Detector> {
-         return std::make_unique<CheckerboardDetector>(
-             std::dynamic_pointer_cast<const CheckerboardTarget>(t));
-       }});
-  add(CharucoPlugin());
-  add(AprilGridPlugin());
+  add(MakeTargetPlugin<CheckerboardTarget, CheckerboardDetector>("checkerboard"));
+  add(MakeTargetPlugin<CharucoTarget, CharucoDetector>("charuco", MakeCharucoTarget));
+  add(MakeTargetPlugin<AprilGridTarget, AprilGridDetector>("aprilgrid", MakeAprilGridTarget));
   return plugins;
 }
 

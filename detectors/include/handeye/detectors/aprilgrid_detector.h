@@ -12,7 +12,6 @@
 
 #include "handeye/core/aprilgrid.h"
 #include "handeye/detectors/detector.h"
-#include "handeye/detectors/registry.h"
 
 namespace handeye {
 
@@ -24,8 +23,6 @@ MarkerCodebook AprilTagCodebook(const std::string& family_name);
 /// An AprilGridTarget for `spec`, its family taken from libapriltag; also
 /// checks the detector's options in `spec`. Throws InputError.
 std::shared_ptr<const AprilGridTarget> MakeAprilGridTarget(const TargetSpec& spec);
-/// The plugin for `target.type` "aprilgrid" (registered in registry.cc).
-TargetPlugin AprilGridPlugin();
 
 /// AprilGrid detector (SPEC §4). Tags are found by libapriltag (AprilTag 3)
 /// with a family description of the grid's own tags whose black border is

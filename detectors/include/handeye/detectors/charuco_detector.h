@@ -10,7 +10,6 @@
 
 #include "handeye/core/charuco.h"
 #include "handeye/detectors/detector.h"
-#include "handeye/detectors/registry.h"
 
 namespace handeye {
 
@@ -22,8 +21,6 @@ MarkerCodebook ArucoCodebook(const std::string& dictionary_name);
 /// A CharucoTarget for `spec`, its dictionary resolved by name; also checks
 /// the detector's options in `spec`. Throws InputError.
 std::shared_ptr<const CharucoTarget> MakeCharucoTarget(const TargetSpec& spec);
-/// The plugin for `target.type` "charuco" (registered in registry.cc).
-TargetPlugin CharucoPlugin();
 
 /// Why a corner interpolated by OpenCV was left out (see CharucoDetector).
 struct CharucoRejection {

@@ -8,6 +8,7 @@
 
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,33 @@ struct TargetPlugin {
   /// that target back, so a cast to the plugin's own type is safe).
   std::function<std::unique_ptr<Detector>(std::shared_ptr<const Target>)> make_detector;
 };
+
+/// The plugin of a target type whose geometry is `TargetT`, made from the
+/// `target` object by `make_target`, and whose detector is `DetectorT`,
+/// constructed from a std::shared_ptr<const TargetT>.
+template <class TargetT, class DetectorT>
+TargetPlugin MakeTargetPlugin(
+    std::string type,
+    std::function<std::shared_ptr<const TargetT>(const TargetSpec&)> make_target) {
+  return {type,
+          [make_target](const TargetSpec& spec) -> std::shared_ptr<const Target> {
+            return make_target(spec);
+          },
+          [type](std::shared_ptr<const Target> target) -> std::unique_ptr<Detector> {
+            auto typed = std::dynamic_pointer_cast<const TargetT>(std::move(target));
+            if (!typed)
+              throw std::invalid_argument("target plugin '" + type +
+                                          "': the target was not made by this plugin");
+            return std::make_unique<DetectorT>(std::move(typed));
+          }};
+}
+
+/// The same, for a `TargetT` constructed from the `target` object itself.
+template <class TargetT, class DetectorT>
+TargetPlugin MakeTargetPlugin(std::string type) {
+  return MakeTargetPlugin<TargetT, DetectorT>(
+      std::move(type), [](const TargetSpec& spec) { return std::make_shared<const TargetT>(spec); });
+}
 
 /// Adds a plugin, replacing one with the same type. Thread-safe.
 void RegisterTargetPlugin(TargetPlugin plugin);
