@@ -126,7 +126,7 @@ int main(int argc, char** argv) {
       stats.views.push_back(static_cast<double>(scene.dataset.observations.size()));
       const double sigma = stats.detection_noise_px.back();
       try {
-        const PositionCovariance bound = ComputePositionCovariance(scene.dataset, TruthAsResult(scene), sigma);
+        const PositionCovariance bound = ComputePositionCovariance(scene.dataset, TruthAsResult(scene.dataset, scene.truth), sigma);
         for (const auto& [name, cov] : bound.camera_position) stats.bound_traces_m2.push_back(cov.trace());
       } catch (const SolveError&) {
       }

@@ -75,20 +75,6 @@ std::string Format(const char* fmt, ...) {
   return buf;
 }
 
-CalibrationResult TruthAsResult(const SyntheticScene& scene) {
-  CalibrationResult at;
-  at.setup = scene.dataset.setup;
-  at.T_target = scene.truth.T_target;
-  for (const auto& cam : scene.dataset.cameras) {
-    CameraResult c;
-    c.name = cam.name;
-    c.calibrated = true;
-    c.T_cam = scene.truth.T_cam.at(cam.name);
-    at.cameras.push_back(c);
-  }
-  return at;
-}
-
 DetectionError MeasureDetectionError(const SyntheticScene& scene) {
   std::vector<double> coordinates;  // signed per-coordinate errors
   std::vector<double> distances;

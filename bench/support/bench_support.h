@@ -50,10 +50,6 @@ class Table {
 /// printf-style formatting into a std::string.
 std::string Format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
 
-/// The truth of a scene in the shape of a calibration result (for the
-/// Cramér–Rao covariance at the true values).
-CalibrationResult TruthAsResult(const SyntheticScene& scene);
-
 /// Detected points against the true pixels of the same ids.
 struct DetectionError {
   double sigma_px = 0;  ///< robust σ per coordinate (1.4826 · median |error|)

@@ -41,4 +41,20 @@ Evaluation EvaluateAgainstTruth(const CalibrationResult& result, const GroundTru
   return out;
 }
 
+CalibrationResult TruthAsResult(const Dataset& dataset, const GroundTruth& truth) {
+  CalibrationResult result;
+  result.setup = truth.setup;
+  result.T_target = truth.T_target;
+  for (const Camera& camera : dataset.cameras) {
+    const auto it = truth.T_cam.find(camera.name);
+    if (it == truth.T_cam.end()) continue;
+    CameraResult c;
+    c.name = camera.name;
+    c.calibrated = true;
+    c.T_cam = it->second;
+    result.cameras.push_back(c);
+  }
+  return result;
+}
+
 }  // namespace handeye

@@ -9,6 +9,7 @@
 #include "handeye/core/calibration.h"
 #include "handeye/core/checkerboard.h"
 #include "handeye/core/error.h"
+#include "handeye/core/evaluation.h"
 #include "handeye/core/synthetic.h"
 #include "handeye/core/transform.h"
 #include "handeye/core/uncertainty.h"
@@ -46,21 +47,6 @@ double CameraRotationError(const CalibrationResult& result, const GroundTruth& t
   return RotationDistance(result.cameras[k].T_cam.rotation(), truth.T_cam.at(result.cameras[k].name).rotation());
 }
 
-// The truth in the shape of a result, for the covariance.
-CalibrationResult TruthAsResult(const SyntheticScene& scene) {
-  CalibrationResult at;
-  at.setup = scene.dataset.setup;
-  at.T_target = scene.truth.T_target;
-  for (const auto& cam : scene.dataset.cameras) {
-    CameraResult c;
-    c.name = cam.name;
-    c.calibrated = true;
-    c.T_cam = scene.truth.T_cam.at(cam.name);
-    at.cameras.push_back(c);
-  }
-  return at;
-}
-
 }  // namespace
 
 TEST_CASE("Joint solve recovers the truth exactly without noise", "[calibration]") {
@@ -85,7 +71,7 @@ TEST_CASE("Joint solve is within 3 sigma of the Cramér–Rao bound at 0.2 px no
   for (std::uint64_t seed : {11u, 12u, 13u}) {
     const SyntheticScene scene = Scene(4, 15, Setup::kEyeToHand, seed, noise_px);
     const CalibrationResult result = Run(scene.dataset);
-    const PositionCovariance bound = ComputePositionCovariance(scene.dataset, TruthAsResult(scene), noise_px);
+    const PositionCovariance bound = ComputePositionCovariance(scene.dataset, TruthAsResult(scene.dataset, scene.truth), noise_px);
     for (size_t k = 0; k < result.cameras.size(); ++k) {
       const std::string& name = result.cameras[k].name;
       // 3 sigma of the error's norm: sqrt of the covariance's trace.

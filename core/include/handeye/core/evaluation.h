@@ -34,4 +34,9 @@ struct Evaluation {
 /// Throws InputError when the setups differ or no camera can be compared.
 Evaluation EvaluateAgainstTruth(const CalibrationResult& result, const GroundTruth& truth);
 
+/// The ground truth in the shape of a result: every camera of `dataset` that
+/// the truth has, calibrated at its true pose, and the true shared transform
+/// (e.g. to compute the Cramér–Rao bound at the true values).
+CalibrationResult TruthAsResult(const Dataset& dataset, const GroundTruth& truth);
+
 }  // namespace handeye
