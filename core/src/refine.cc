@@ -113,8 +113,15 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
   }
 
   // c_cross: at each pose, for each ordered pair (k, t) of cameras that both
-  // detected the target, camera k's points predicted through camera t.
-  std::map<std::pair<int, int>, double*> pair_blocks;
+  // detected the target, camera k's points predicted through camera t:
+  // π_k(T_camk_camt · X_t · M_j · Z · p). T_camk_camt is free (one block per
+  // pair), so the term is solved in the variable Y_kt = T_camk_camt · X_t
+  // (camera k's pose as seen through camera t) and T_camk_camt = Y_kt · X_t⁻¹
+  // is read back after the solve: (T_camk_camt, X_t) -> (Y_kt, X_t) is a
+  // bijection, so the cost, its minimum and the minimiser are the paper's,
+  // while each c_cross block touches two blocks instead of three (a third
+  // less Jacobian to store, evaluate and eliminate).
+  std::map<std::pair<int, int>, double*> pair_blocks;  // (k, t) -> Y_kt
   if (options.cross_terms) {
     for (const auto& at_pose : views_at_pose)
       for (int vk : at_pose)
@@ -122,36 +129,34 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
           if (vk == vt) continue;
           const View& view_k = problem.views[vk];
           const int k = view_k.camera, t = problem.views[vt].camera;
-          double*& T_kt = pair_blocks[{k, t}];
-          if (!T_kt) {
-            T_kt = blocks.Add(*init.X[k] * init.X[t]->inverse());
-            ceres_problem.AddParameterBlock(T_kt, 7);
-            SetPoseManifold(&ceres_problem, T_kt);
+          double*& Y_kt = pair_blocks[{k, t}];
+          if (!Y_kt) {
+            // T_camk_camt starts at X_k · X_t⁻¹, so Y_kt at X_k.
+            Y_kt = blocks.Add(*init.X[k]);
+            ceres_problem.AddParameterBlock(Y_kt, 7);
+            SetPoseManifold(&ceres_problem, Y_kt);
           }
           ceres_problem.AddResidualBlock(
-              ViewCrossReprojectionError::Create(dataset.cameras[k], problem.M[view_k.pose], points[vk],
-                                                 options.cauchy_scale_px),
-              nullptr, T_kt, X[t], Z);
+              ViewReprojectionError::Create(dataset.cameras[k], problem.M[view_k.pose], points[vk],
+                                            options.cauchy_scale_px),
+              nullptr, Y_kt, Z);
         }
   }
 
+  // Every residual block touches Z and exactly one other block (X_k or
+  // Y_kt), so all of those are eliminated block by block (Schur complement,
+  // built on all threads) and only Z's 6×6 system is left to factor. Forming
+  // JᵀJ of the whole Jacobian instead (sparse normal Cholesky) ran on one
+  // thread and copied the Jacobian, ~10x larger with the cross blocks than
+  // the c_rpj part, at every step to append the LM diagonal.
   ceres::Solver::Options solver = SolverOptions(options, ceres_problem);
-  if (!pair_blocks.empty()) {
-    // Every c_cross block touches exactly one pair block T_camk_camt, so the
-    // pair blocks are eliminated pair by pair (Schur complement, built on all
-    // threads) and a dense system over the cameras and Z (6 per block) is
-    // left. Forming JᵀJ of the whole Jacobian instead (sparse normal
-    // Cholesky) ran on one thread and copied the Jacobian, ~10x larger with
-    // the cross blocks than the c_rpj part, at every step to append the LM
-    // diagonal: at 32 cameras × 1000 poses that was 1 GB per iteration.
-    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-    for (const auto& [pair, block] : pair_blocks) ordering->AddElementToGroup(block, 0);
-    ordering->AddElementToGroup(Z, 1);
-    for (double* block : X)
-      if (block) ordering->AddElementToGroup(block, 1);
-    solver.linear_solver_type = ceres::DENSE_SCHUR;
-    solver.linear_solver_ordering = ordering;
-  }
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  for (double* block : X)
+    if (block) ordering->AddElementToGroup(block, 0);
+  for (const auto& [pair, block] : pair_blocks) ordering->AddElementToGroup(block, 0);
+  ordering->AddElementToGroup(Z, 1);
+  solver.linear_solver_type = ceres::DENSE_SCHUR;
+  solver.linear_solver_ordering = ordering;
   // The closed-form start is close, so the first steps can be near
   // Gauss-Newton: with Ceres' default radius (1e4) the damping held the
   // convergence back by one or two iterations (16 and 32 cameras: 6-7 -> 5)
@@ -163,7 +168,8 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
   out.X.resize(X.size());
   for (size_t k = 0; k < X.size(); ++k)
     if (X[k]) out.X[k] = PoseBlocks::Get(X[k]);
-  for (const auto& [pair, block] : pair_blocks) out.pairs[pair] = PoseBlocks::Get(block);
+  for (const auto& [pair, Y_kt] : pair_blocks)
+    out.pairs[pair] = PoseBlocks::Get(Y_kt) * out.X[pair.second]->inverse();
   return out;
 }
 

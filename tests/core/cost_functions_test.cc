@@ -216,3 +216,29 @@ TEST_CASE("Chain-rule derivatives equal autodiff with every distortion term", "[
                             {ToPoseParams(c.X * c.X_t.inverse()), ToPoseParams(c.X_t), ToPoseParams(c.Z)}) < 1e-9);
   }
 }
+
+TEST_CASE("The cross term is the reprojection term in Y = T_camk_camt · X_t", "[cost]") {
+  // The joint solve relies on this to optimise Y_kt instead of T_camk_camt.
+  const Camera camera = TestCamera();
+  const Chain c;
+  std::vector<Eigen::Vector2d> offsets;
+  const ViewPoints view = Offsets(camera, c, &offsets);
+  // A pair transform that does not reproduce X_k, so the residuals are not small.
+  const Eigen::Isometry3d T_kt = MakeTransformFromRotationVector({0.01, -0.02, 0.03}, {0.01, 0.0, -0.02}) *
+                                 c.X * c.X_t.inverse();
+  for (double a : {0.0, 1.0}) {
+    std::unique_ptr<ceres::CostFunction> cross(ViewCrossReprojectionError::Create(camera, c.M, view, a));
+    std::unique_ptr<ceres::CostFunction> direct(ViewReprojectionError::Create(camera, c.M, view, a));
+    PoseParams T = ToPoseParams(T_kt), Xt = ToPoseParams(c.X_t), Z = ToPoseParams(c.Z);
+    PoseParams Y = ToPoseParams(T_kt * c.X_t);
+    const double* cross_params[] = {T.data(), Xt.data(), Z.data()};
+    const double* direct_params[] = {Y.data(), Z.data()};
+    double r_cross[6], r_direct[6];
+    REQUIRE(cross->Evaluate(cross_params, r_cross, nullptr));
+    REQUIRE(direct->Evaluate(direct_params, r_direct, nullptr));
+    for (int i = 0; i < 6; ++i) {
+      REQUIRE(std::abs(r_direct[i]) > 0.1);
+      REQUIRE(r_cross[i] == Approx(r_direct[i]).epsilon(1e-9));
+    }
+  }
+}

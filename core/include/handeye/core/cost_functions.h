@@ -344,6 +344,10 @@ struct ViewReprojectionError {
 
 /// c_cross of one view of camera k at pose j, predicted through camera t:
 /// T_camk_camt · X_t · M_j · Z · p_target. Parameters: T_camk_camt, X_t, Z.
+/// The paper's form. Its residuals are those of ViewReprojectionError with
+/// X = T_camk_camt · X_t, and since T_camk_camt is a free block per pair the
+/// joint solve uses that form in the variable Y_kt = T_camk_camt · X_t (two
+/// blocks per residual block instead of three; see RefineJoint).
 struct ViewCrossReprojectionError {
   ViewCrossReprojectionError(const Camera& camera_k, const Eigen::Isometry3d& M, ViewPoints points,
                              double cauchy_scale_px)
