@@ -33,6 +33,10 @@ struct Args {
   int cameras = 4;
   std::string source = "images";
   double noise_px = 0.2;
+  /// Rendering (--source images): optical blur σ (px) and sensor noise σ
+  /// (grey levels), the simulator's defaults.
+  double blur_px = 0.75;
+  double sensor_noise = 2.0;
   std::string methods;
   std::string setup = "eye_to_hand";
   std::string json;
@@ -89,6 +93,9 @@ int main(int argc, char** argv) {
   app.add_option("--cameras", args.cameras, "cameras per scene");
   app.add_option("--source", args.source, "images (rendered + detected) or projected (true pixels + noise)");
   app.add_option("--noise-px", args.noise_px, "pixel noise σ for --source projected");
+  app.add_option("--blur", args.blur_px, "--source images: mean optical blur σ in px (default 0.75)");
+  app.add_option("--sensor-noise", args.sensor_noise,
+                 "--source images: sensor noise σ in grey levels (default 2)");
   app.add_option("--methods", args.methods, "comma-separated methods (default: all)");
   app.add_option("--setup", args.setup, "eye_to_hand or eye_in_hand");
   app.add_option("--json", args.json, "also write the numbers to this JSON file");
@@ -103,7 +110,8 @@ int main(int argc, char** argv) {
   nlohmann::ordered_json json;
   json["machine"] = {{"cores", std::thread::hardware_concurrency()}};
   json["args"] = {{"seeds", args.seeds}, {"poses", args.poses}, {"cameras", args.cameras},
-                  {"source", args.source}, {"setup", args.setup}};
+                  {"source", args.source}, {"setup", args.setup}, {"blur_px", args.blur_px},
+                  {"sensor_noise", args.sensor_noise}};
   for (const std::string& cell : SplitList(args.cells)) {
     CellStats stats;
     for (int seed = args.first_seed; seed < args.first_seed + args.seeds; ++seed) {
@@ -111,7 +119,8 @@ int main(int argc, char** argv) {
       if (args.source == "images") {
         RenderOptions render;
         render.seed = static_cast<std::uint64_t>(seed) * 1000003u;
-        render.blur_sigma_px = 0.75;
+        render.blur_sigma_px = args.blur_px;
+        render.noise_sigma = args.sensor_noise;
         DetectSimulated(&scene, render, args.threads);
         const DetectionError error = MeasureDetectionError(scene);
         stats.detection_noise_px.push_back(error.sigma_px);
@@ -154,9 +163,13 @@ int main(int argc, char** argv) {
     }
     std::fprintf(stderr, "\n");
 
+    const std::string source =
+        args.source == "images"
+            ? Format("rendered images (blur %.2g px, sensor noise %.3g grey levels), detected corners",
+                     args.blur_px, args.sensor_noise)
+            : std::string("projected points + noise");
     std::printf("\n### %s cell, %s, %d cameras, %d poses, %d seeds, %s\n\n", cell.c_str(), args.setup.c_str(),
-                args.cameras, args.poses, args.seeds,
-                args.source == "images" ? "rendered images, detected corners" : "projected points + noise");
+                args.cameras, args.poses, args.seeds, source.c_str());
     std::printf("views per scene %.1f, detection noise σ %.3f px per coordinate (robust), %d of %d points off by "
                 "more than 1 px (worst %.2f px)\n\n",
                 Mean(stats.views), Mean(stats.detection_noise_px), stats.gross_points, stats.detected_points,
