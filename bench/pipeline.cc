@@ -25,6 +25,7 @@
 #include "handeye/detectors/registry.h"
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/detection.h"
+#include "handeye/io/image.h"
 #include "handeye/io/report.h"
 #include "handeye/io/simulation.h"
 #include "support/bench_support.h"
@@ -67,6 +68,9 @@ ProcessRun RunProcess(const std::vector<std::string>& argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The same allocator policy as the handeye program, so the stages run here
+  // measure what the program does.
+  handeye::ReuseFreedImageMemory();
   CLI::App app{"handeye pipeline benchmark: detect, solve, report and full calibrate"};
   std::string handeye = "build/tools/handeye", workdir = "/tmp/handeye-bench", preset = "metric-medium",
               threads_list = "1,2", json_path;

@@ -2,9 +2,6 @@
 // handeye: multi-camera hand-eye calibration. Exit codes (SPEC §7):
 // 0 success, 2 bad input, 3 the calibration could not be solved.
 #include <unistd.h>
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 
 #include <algorithm>
 #include <cstdio>
@@ -12,6 +9,7 @@
 
 #include "commands.h"
 #include "handeye/core/error.h"
+#include "handeye/io/image.h"
 
 namespace handeye::tools {
 
@@ -29,21 +27,6 @@ namespace {
 std::vector<std::pair<int, AddSubcommandFn>>& Recorded() {
   static std::vector<std::pair<int, AddSubcommandFn>> recorded;
   return recorded;
-}
-
-// Image work (OpenCV's sector detector, the renderer, the report) allocates
-// and frees blocks of several MB per image. glibc gives blocks that large back
-// to the kernel when they are freed (mmap threshold, heap trimming), and the
-// next image faults the same pages in again: on METRIC's synthetic cell 2.1 s
-// of 20 s detection CPU went to the kernel, 0.3 s with the blocks kept. The
-// program therefore keeps freed memory (a few hundred MB at most) for reuse
-// until it ends. Set here, not in the libraries: it is a process-wide policy
-// that an application embedding them should choose for itself.
-void KeepLargeBlocksForReuse() {
-#if defined(__GLIBC__)
-  mallopt(M_MMAP_THRESHOLD, 64 << 20);
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
-#endif
 }
 
 }  // namespace
@@ -67,7 +50,8 @@ void PrintWarnings(const std::vector<std::string>& warnings) {
 }  // namespace handeye::tools
 
 int main(int argc, char** argv) {
-  handeye::tools::KeepLargeBlocksForReuse();
+  // Detection and the report go through thousands of multi-MB images.
+  handeye::ReuseFreedImageMemory();
   CLI::App app{"handeye: calibrates a network of cameras against an industrial robot"};
   app.require_subcommand(1);
   handeye::tools::AddRecordedSubcommands(app);
