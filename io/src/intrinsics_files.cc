@@ -1,18 +1,14 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "handeye/io/intrinsics_files.h"
 
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
 #include <opencv2/core.hpp>
 
 #include "handeye/core/error.h"
 #include "handeye/io/json_util.h"
 #include "handeye/io/yaml_subset.h"
+#include "text_file.h"
 
 namespace handeye {
 namespace {
@@ -46,16 +42,6 @@ void CheckCoefficientCount(std::size_t n, const std::string& file, const std::st
                          std::to_string(n));
 }
 
-std::string ReadText(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw InputError(path, "", "file does not exist");
-  if (fs::is_directory(path, ec)) throw InputError(path, "", "is a folder; expected an intrinsics file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "", std::string("cannot read: ") + std::strerror(errno));
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 // --- OpenCV FileStorage ------------------------------------------------------------
 
 cv::Mat ReadMatrixNode(const cv::FileStorage& fs, const std::string& key, const std::string& path) {
@@ -82,7 +68,7 @@ std::optional<int> ReadOptionalSide(const cv::FileStorage& fs, const std::string
 }
 
 FileIntrinsics ReadOpenCv(const std::string& path) {
-  std::string text = ReadText(path);
+  std::string text = internal::ReadTextFile(path, "an intrinsics file");
   const std::size_t first = text.find_first_not_of(" \t\r\n");
   const char lead = first == std::string::npos ? '\0' : text[first];
   // OpenCV tells its formats apart by the first characters and insists on

@@ -3,16 +3,12 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <set>
 
 #include "handeye/core/transform.h"
+#include "text_file.h"
 
 namespace handeye {
 namespace {
@@ -182,14 +178,7 @@ OrderedJson NumberJson(double x) {
 }  // namespace
 
 nlohmann::json ReadJsonFile(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw InputError(path, "", "file does not exist");
-  if (fs::is_directory(path, ec)) throw InputError(path, "", "is a folder; expected a JSON file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "", std::string("cannot read: ") + std::strerror(errno));
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw InputError(path, "", std::string("cannot read: ") + std::strerror(errno));
+  const std::string text = internal::ReadTextFile(path, "a JSON file");
   DuplicateKeyCheck check;
   try {
     return Json::parse(text, std::ref(check));

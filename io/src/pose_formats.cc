@@ -5,13 +5,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <map>
+#include <sstream>
 
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
+#include "text_file.h"
 
 namespace handeye {
 namespace {
@@ -176,12 +175,7 @@ Eigen::Isometry3d ReadPose(const JsonReader& value, bool reorthonormalise) {
 }
 
 std::vector<PoseRow> ReadPoseCsv(const std::string& path, LengthUnit unit, bool reorthonormalise) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw InputError(path, "", "file does not exist");
-  if (fs::is_directory(path, ec)) throw InputError(path, "", "is a folder; expected a CSV pose list");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "", std::string("cannot read: ") + std::strerror(errno));
+  std::istringstream in(internal::ReadTextFile(path, "a CSV pose list"));
 
   static const std::vector<std::string> kHeader = {"id", "x", "y", "z", "qx", "qy", "qz", "qw"};
   const double scale = unit == LengthUnit::kMillimetre ? 1e-3 : 1.0;
@@ -229,7 +223,6 @@ std::vector<PoseRow> ReadPoseCsv(const std::string& path, LengthUnit unit, bool 
     row.T_base_ee = MakeTransform(*q, scale * Eigen::Vector3d(v[0], v[1], v[2]));
     rows.push_back(std::move(row));
   }
-  if (in.bad()) throw InputError(path, "", std::string("cannot read: ") + std::strerror(errno));
   if (!header_seen) throw InputError(path, "", "empty file; expected the header 'id,x,y,z,qx,qy,qz,qw' and rows");
   if (rows.empty()) throw InputError(path, "", "no poses; expected rows after the header 'id,x,y,z,qx,qy,qz,qw'");
   return rows;

@@ -6,14 +6,12 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <regex>
 #include <set>
 #include <vector>
 
 #include "handeye/core/error.h"
+#include "text_file.h"
 
 namespace handeye {
 namespace {
@@ -424,14 +422,7 @@ nlohmann::json ParseYamlSubset(const std::string& text, const std::string& file)
 }
 
 nlohmann::json ReadYamlSubsetFile(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw InputError(path, "", "file does not exist");
-  if (fs::is_directory(path, ec)) throw InputError(path, "", "is a folder; expected a YAML file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "", std::string("cannot read: ") + std::strerror(errno));
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return ParseYamlSubset(text, path);
+  return ParseYamlSubset(internal::ReadTextFile(path, "a YAML file"), path);
 }
 
 }  // namespace handeye
