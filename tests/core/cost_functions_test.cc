@@ -209,7 +209,7 @@ TEST_CASE("Chain-rule derivatives equal autodiff with every distortion term", "[
     std::unique_ptr<ceres::CostFunction> fast(ViewReprojectionError::Create(*camera, c.M, shared, a));
     std::unique_ptr<ceres::CostFunction> reference(ViewReprojectionError::CreateAutoDiff(*camera, c.M, view, a));
     REQUIRE(WorstDifference(*fast, *reference, {ToPoseParams(c.X), ToPoseParams(c.Z)}) < 1e-9);
-    std::unique_ptr<ceres::CostFunction> fast_cross(ViewCrossReprojectionError::Create(*camera, c.M, shared, a));
+    std::unique_ptr<ceres::CostFunction> fast_cross(ViewCrossReprojectionError::Create(*camera, c.M, view, a));
     std::unique_ptr<ceres::CostFunction> reference_cross(
         ViewCrossReprojectionError::CreateAutoDiff(*camera, c.M, view, a));
     REQUIRE(WorstDifference(*fast_cross, *reference_cross,

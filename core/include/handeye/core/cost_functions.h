@@ -364,14 +364,9 @@ struct ViewCrossReprojectionError {
   /// The cost with chain-rule derivatives (see ViewReprojectionError::Create).
   static ceres::CostFunction* Create(const Camera& camera_k, const Eigen::Isometry3d& M, ViewPoints points,
                                      double cauchy_scale_px) {
-    return Create(camera_k, M, std::make_shared<const ViewPoints>(std::move(points)), cauchy_scale_px);
-  }
-  /// The same, sharing camera k's view points with its other blocks (one per
-  /// camera t that saw the target at this pose, and its c_rpj block).
-  static ceres::CostFunction* Create(const Camera& camera_k, const Eigen::Isometry3d& M,
-                                     std::shared_ptr<const ViewPoints> points, double cauchy_scale_px) {
     return new cost_internal::ChainedViewCost<3, cost_internal::CrossChain>(
-        camera_k, std::move(points), cauchy_scale_px, cost_internal::CrossChain{ToPoseParams(M)});
+        camera_k, std::make_shared<const ViewPoints>(std::move(points)), cauchy_scale_px,
+        cost_internal::CrossChain{ToPoseParams(M)});
   }
   /// The same cost through ceres::AutoDiffCostFunction (reference for tests).
   static ceres::CostFunction* CreateAutoDiff(const Camera& camera_k, const Eigen::Isometry3d& M, ViewPoints points,
