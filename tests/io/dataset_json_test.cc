@@ -160,18 +160,11 @@ void CheckSameModel(const Dataset& a, const Dataset& b) {
   }
 }
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 TEST_CASE("Dataset round trip: exact numbers, image paths relative in the file", "[io][dataset]") {
   const std::string dir = test::TempDir("dataset_roundtrip");
   const Dataset original = MakeDataset(dir + "/images");
   SaveDataset(original, dir + "/dataset.json");
-  const std::string text = ReadText(dir + "/dataset.json");
+  const std::string text = test::ReadText(dir + "/dataset.json");
   CHECK_THAT(text, Contains("\"left\": \"images/left/p0.png\""));
   CHECK_THAT(text, !Contains(dir));
 
@@ -183,14 +176,14 @@ TEST_CASE("Dataset round trip: exact numbers, image paths relative in the file",
   // Saved again, from a folder deeper down: paths become ../images/...
   std::filesystem::create_directories(dir + "/sub");
   SaveDataset(loaded, dir + "/sub/dataset.json");
-  CHECK_THAT(ReadText(dir + "/sub/dataset.json"), Contains("\"../images/left/p0.png\""));
+  CHECK_THAT(test::ReadText(dir + "/sub/dataset.json"), Contains("\"../images/left/p0.png\""));
   const Dataset again = LoadDataset(dir + "/sub/dataset.json");
   CheckSameModel(original, again);
   for (std::size_t p = 0; p < original.poses.size(); ++p)
     CHECK(again.poses[p].images == original.poses[p].images);
   // Byte-identical once the paths are relative to the same folder.
   SaveDataset(again, dir + "/again.json");
-  CHECK(ReadText(dir + "/again.json") == text);
+  CHECK(test::ReadText(dir + "/again.json") == text);
 }
 
 TEST_CASE("SaveDataset never writes a file that LoadDataset would reject", "[io][dataset]") {
@@ -216,7 +209,7 @@ TEST_CASE("Observations round trip, exactly and in order", "[io][dataset]") {
       original.observations.push_back(view);
     }
   SaveObservations(original, dir + "/obs.json");
-  CHECK_THAT(ReadText(dir + "/obs.json"), !Contains("images"));
+  CHECK_THAT(test::ReadText(dir + "/obs.json"), !Contains("images"));
   const Dataset loaded = LoadDataset(dir + "/obs.json");
   CheckSameModel(original, loaded);
   for (const auto& pose : loaded.poses) CHECK(pose.images.empty());
@@ -230,7 +223,7 @@ TEST_CASE("Observations round trip, exactly and in order", "[io][dataset]") {
     CHECK(a.points_px == b.points_px);  // exact
   }
   SaveObservations(loaded, dir + "/obs2.json");
-  CHECK(ReadText(dir + "/obs2.json") == ReadText(dir + "/obs.json"));
+  CHECK(test::ReadText(dir + "/obs2.json") == test::ReadText(dir + "/obs.json"));
 }
 
 TEST_CASE("Bad input: missing file", "[io][dataset][bad]") {

@@ -64,19 +64,12 @@ void CheckSameTruth(const GroundTruth& a, const GroundTruth& b) {
   }
 }
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 TEST_CASE("Ground truth round trip, both setups", "[io][truth]") {
   const std::string dir = test::TempDir("truth_roundtrip");
   for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
     const GroundTruth truth = MakeTruth(setup);
     SaveGroundTruth(truth, dir + "/gt.json");
-    const std::string text = ReadText(dir + "/gt.json");
+    const std::string text = test::ReadText(dir + "/gt.json");
     if (setup == Setup::kEyeToHand) {
       CHECK_THAT(text, Contains("\"T_base_cam\""));
       CHECK_THAT(text, Contains("\"T_ee_target\""));
@@ -94,7 +87,7 @@ TEST_CASE("Ground truth without the target pose leaves it out", "[io][truth]") {
   truth.has_T_target = false;
   truth.poses.clear();
   SaveGroundTruth(truth, dir + "/gt.json");
-  const std::string text = ReadText(dir + "/gt.json");
+  const std::string text = test::ReadText(dir + "/gt.json");
   CHECK_THAT(text, !Contains("T_ee_target"));
   CHECK_THAT(text, !Contains("poses"));
   const GroundTruth loaded = LoadGroundTruth(dir + "/gt.json");
@@ -106,7 +99,7 @@ TEST_CASE("Ground truth can live in a dataset's ground_truth object", "[io][trut
   const std::string dir = test::TempDir("truth_in_dataset");
   const GroundTruth truth = MakeTruth(Setup::kEyeInHand);
   SaveGroundTruth(truth, dir + "/gt.json");
-  json nested = json::parse(ReadText(dir + "/gt.json"));
+  json nested = json::parse(test::ReadText(dir + "/gt.json"));
   nested.erase("format");
   nested.erase("setup");  // inherited from the dataset
   json dataset = json::parse(R"({

@@ -18,14 +18,6 @@
 
 namespace handeye::test {
 
-/// The whole content of a text file ("" when it cannot be read).
-inline std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 /// T_base_ee of METRIC pose `index` (any integer): full-precision rotations.
 inline Eigen::Isometry3d MetricPose(int index) {
   return MakeTransformFromRotationVector(

@@ -11,6 +11,8 @@ namespace handeye::test {
 std::string TempDir(const std::string& name);
 /// Writes text to a file (creating folders).
 void WriteText(const std::string& path, const std::string& text);
+/// The whole content of a file, byte for byte ("" when it cannot be read).
+std::string ReadText(const std::string& path);
 /// Runs the handeye program with arguments; returns its exit code and
 /// fills *output with stdout+stderr.
 int RunHandeye(const std::string& args, std::string* output);

@@ -13,13 +13,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
 // Small images keep the test to about a second; the geometry is the preset's.
 const char* kTinyScene = "--cell small --cameras 2 --poses 3 --image-size 640x360 --seed 3";
 
@@ -73,15 +66,15 @@ TEST_CASE("simulate output does not depend on the number of threads", "[simulate
   std::string output;
   REQUIRE(test::RunHandeye("simulate " + one + " " + kTinyScene + " --threads 1", &output) == 0);
   REQUIRE(test::RunHandeye("simulate " + two + " " + kTinyScene + " --threads 2", &output) == 0);
-  CHECK(ReadBytes(one + "/dataset.json") == ReadBytes(two + "/dataset.json"));
-  CHECK(ReadBytes(one + "/ground_truth.json") == ReadBytes(two + "/ground_truth.json"));
+  CHECK(test::ReadText(one + "/dataset.json") == test::ReadText(two + "/dataset.json"));
+  CHECK(test::ReadText(one + "/ground_truth.json") == test::ReadText(two + "/ground_truth.json"));
   int images = 0;
   for (const auto& entry : fs::recursive_directory_iterator(one + "/images")) {
     if (!entry.is_regular_file()) continue;
     const fs::path relative = fs::relative(entry.path(), one);
     INFO(relative);
     REQUIRE(fs::is_regular_file(fs::path(two) / relative));
-    CHECK(ReadBytes(entry.path().string()) == ReadBytes((fs::path(two) / relative).string()));
+    CHECK(test::ReadText(entry.path().string()) == test::ReadText((fs::path(two) / relative).string()));
     ++images;
   }
   CHECK(images >= 3);

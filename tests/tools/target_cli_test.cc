@@ -21,13 +21,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
 std::shared_ptr<const Target> TargetFromFile(const std::string& path) {
   const nlohmann::json json = ReadJsonFile(path);
   return MakeTarget(TargetSpecFromJson(JsonReader(&json, path)));
@@ -56,7 +49,7 @@ TEST_CASE("target draws the default ChArUco sheet at the given dpi with its targ
   CHECK(board->squares_x() == 7);
   CHECK(board->squares_y() == 5);
   CHECK(board->dictionary().name == "DICT_5X5_100");
-  const std::string png = ReadBytes(dir + "/board.png");
+  const std::string png = test::ReadText(dir + "/board.png");
   CHECK(PixelsPerMetre(png) == 3937);  // 100 dpi
   const cv::Mat image = cv::imread(dir + "/board.png", cv::IMREAD_GRAYSCALE);
   REQUIRE(!image.empty());
@@ -94,12 +87,12 @@ TEST_CASE("target draws a configured AprilGrid; options must fit the type", "[cl
   CHECK(grid->tag_size_m() == 0.04);
   CHECK(grid->tag_spacing() == 0.3);
   CHECK(grid->border_bits() == 2);
-  CHECK(PixelsPerMetre(ReadBytes(dir + "/grid.png")) == 11811);  // 300 dpi
+  CHECK(PixelsPerMetre(test::ReadText(dir + "/grid.png")) == 11811);  // 300 dpi
 
   // The written target object draws the same sheet again.
   REQUIRE(test::RunHandeye("target --target-json " + dir + "/grid.json -o " + dir + "/again.png",
                            &out) == 0);
-  CHECK(ReadBytes(dir + "/again.png") == ReadBytes(dir + "/grid.png"));
+  CHECK(test::ReadText(dir + "/again.png") == test::ReadText(dir + "/grid.png"));
 
   const std::vector<std::pair<std::string, std::string>> bad = {
       {"aprilgrid --squares 7x5", "--squares"},
