@@ -22,6 +22,8 @@ struct ImportMetricArgs {
 void RunImportMetric(const ImportMetricArgs& args) {
   const MetricImport imported = ImportMetricFolder(args.folder);
   PrintWarnings(imported.dataset.target->Warnings());
+  PrintWarnings(imported.warnings);
+  for (const std::string& note : imported.notes) std::cerr << "note: " << note << "\n";
   std::size_t images = 0;
   for (const auto& pose : imported.dataset.poses) images += pose.images.size();
   SaveDataset(imported.dataset, args.output);

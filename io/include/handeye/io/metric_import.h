@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "handeye/core/dataset.h"
 
@@ -14,6 +15,10 @@ namespace handeye {
 struct MetricImport {
   Dataset dataset;                   ///< image paths absolute
   std::optional<GroundTruth> truth;  ///< from FOLDER/GT/ when present
+  /// Things a user must see (pose files of one name that disagree, …).
+  std::vector<std::string> warnings;
+  /// How the folder was read (same-name pose files merged, …): information.
+  std::vector<std::string> notes;
 };
 
 /// Reads FOLDER/CalibrationInfo.yaml, camera<k>/{image,pose}/ and
