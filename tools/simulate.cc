@@ -29,6 +29,9 @@ struct SimulateArgs {
   std::uint64_t seed = 1;
   double pose_noise_mm = 0;
   double pose_noise_deg = 0;
+  int swap_poses = 0;
+  bool see_through = false;
+  bool visible_only = false;
   bool no_distortion = false;
   double blur_px = 0.75;
   double noise = 2.0;
@@ -69,6 +72,7 @@ SceneOptions MakeSceneOptions(const SimulateArgs& args) {
   options.distortion = !args.no_distortion;
   options.pose_noise_mm = args.pose_noise_mm;
   options.pose_noise_deg = args.pose_noise_deg;
+  options.swap_poses = args.swap_poses;
   if (!args.image_size.empty()) {
     const auto [w, h] = ParsePair("--image-size", args.image_size, "WIDTHxHEIGHT in pixels");
     options.width = w;
@@ -88,6 +92,8 @@ void RunSimulate(const SimulateArgs& args) {
   render.blur_sigma_px = args.blur_px;
   render.noise_sigma = args.noise;
   render.seed = args.seed;
+  render.see_through = args.see_through;
+  render.every_view = !args.visible_only;
   std::string why;
   if (!render.Check(&why)) throw BadOption("--blur/--noise", "expected " + why);
   if (args.threads < 0) throw BadOption("--threads", "expected 0 (all cores) or more");
@@ -101,6 +107,8 @@ void RunSimulate(const SimulateArgs& args) {
   SyntheticScene scene = MakeScene(scene_options, target);
   WriteSimulation(&scene, render, args.outdir, args.threads, ProgressLine("rendering"));
 
+  std::size_t images = 0;
+  for (const auto& pose : scene.dataset.poses) images += pose.images.size();
   std::map<std::string, int> views_per_camera;
   int views = 0, shared = 0;
   for (const auto& pose : scene.truth.poses) {
@@ -114,8 +122,11 @@ void RunSimulate(const SimulateArgs& args) {
                << views_per_camera[camera.name];
   std::cout << "simulated " << SetupName(scene_options.setup) << " " << scene_options.cell
             << " cell: " << scene.dataset.cameras.size() << " cameras, " << scene.dataset.poses.size()
-            << " poses, " << views << " views rendered (" << per_camera.str() << "), " << shared
+            << " poses, " << images << " images rendered, " << views
+            << " show the whole target from the front (" << per_camera.str() << "), " << shared
             << " poses seen by 2+ cameras -> " << args.outdir << "\n";
+  for (const auto& [a, b] : scene.swapped_poses)
+    std::cout << "robot records of poses " << a << " and " << b << " exchanged (--swap-poses)\n";
 }
 
 }  // namespace
@@ -139,6 +150,12 @@ void RegisterSimulate(CLI::App& app) {
   cmd->add_option("--seed", args->seed, "random seed; the same seed gives the same dataset");
   cmd->add_option("--pose-noise-mm", args->pose_noise_mm, "robot translation noise sigma per axis (mm) on the reported poses");
   cmd->add_option("--pose-noise-deg", args->pose_noise_deg, "robot rotation noise sigma (deg) on the reported poses");
+  cmd->add_option("--swap-poses", args->swap_poses,
+                  "exchange the robot records of K pairs of poses (a logging fault to test against)");
+  cmd->add_flag("--see-through", args->see_through,
+                "a glass target: cameras behind it see its pattern mirrored (a printed one shows a plain back)");
+  cmd->add_flag("--visible-only", args->visible_only,
+                "render only the views that show the whole target from the front (default: every camera at every pose)");
   cmd->add_flag("--no-distortion", args->no_distortion, "cameras without lens distortion");
   cmd->add_option("--blur", args->blur_px, "mean optical blur sigma (px); each camera gets 2/3..4/3 of it (default 0.75)");
   cmd->add_option("--noise", args->noise, "sensor noise sigma in grey levels (default 2)");

@@ -248,6 +248,7 @@ class SceneBuilder {
     }
     for (int j = 0; j < options_.num_poses; ++j) AddPose(j);
     AddPoseNoise();
+    SwapPoseRecords();
     return std::move(scene_);
   }
 
@@ -523,6 +524,22 @@ class SceneBuilder {
     }
   }
 
+  // Exchanges the reported T_base_ee of disjoint random pairs of poses, from
+  // a random stream of its own (the scene is otherwise unchanged).
+  void SwapPoseRecords() {
+    if (options_.swap_poses == 0) return;
+    std::vector<std::size_t> order(scene_.dataset.poses.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::mt19937_64 swap_engine(options_.seed ^ 0x5157a9b0c3d2e1f4ULL);
+    std::shuffle(order.begin(), order.end(), swap_engine);
+    for (int p = 0; p < options_.swap_poses; ++p) {
+      RobotPose& a = scene_.dataset.poses[order[2 * p]];
+      RobotPose& b = scene_.dataset.poses[order[2 * p + 1]];
+      std::swap(a.T_base_ee, b.T_base_ee);
+      scene_.swapped_poses.emplace_back(a.id, b.id);
+    }
+  }
+
   const SceneOptions& options_;
   const CellPreset preset_;
   std::shared_ptr<const Target> target_;
@@ -553,6 +570,8 @@ bool SceneOptions::Check(std::string* why) const {
     return fail("a finite, non-negative robot translation noise (mm)");
   if (!std::isfinite(pose_noise_deg) || pose_noise_deg < 0)
     return fail("a finite, non-negative robot rotation noise (deg)");
+  if (swap_poses < 0 || 2 * swap_poses > num_poses)
+    return fail("between 0 and half as many swapped pose pairs as poses");
   const int smaller_side = width != 0 ? std::min(width, height) : 1080;
   if (!std::isfinite(border_margin_px) || border_margin_px < 0 ||
       border_margin_px >= smaller_side / 4.0)

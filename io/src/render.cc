@@ -101,7 +101,7 @@ class RayTracer {
 /// What a ray sees on the target plane: the sheet's albedo or kMiss.
 class PlaneSampler {
  public:
-  PlaneSampler(const Target& target, const Eigen::Isometry3d& T_cam_target)
+  PlaneSampler(const Target& target, const Eigen::Isometry3d& T_cam_target, bool see_through)
       : target_(target), extent_(target.Extent()) {
     // A point (X, Y, 0) of the target plane is seen along the ray
     // λ (x, y, 1) = [r1 r2 t] (X, Y, 1) with depth λ > 0.
@@ -109,10 +109,13 @@ class PlaneSampler {
     H.col(0) = T_cam_target.linear().col(0);
     H.col(1) = T_cam_target.linear().col(1);
     H.col(2) = T_cam_target.translation();
-    // The printed face is seen only from the target's -z side: the camera
-    // centre, in the target frame, must have z < 0.
+    // The printed face is seen from the target's -z side (camera centre at
+    // z < 0 in the target frame); from the other side a printed sheet is a
+    // plain back, a glass one shows the pattern mirrored (the same albedo
+    // seen through the plane).
     const double camera_z_target = (T_cam_target.inverse()).translation().z();
-    visible_ = camera_z_target < 0 && std::abs(H.determinant()) > 1e-15;
+    visible_ = std::abs(H.determinant()) > 1e-15 && camera_z_target != 0;
+    plain_back_ = camera_z_target > 0 && !see_through;
     if (visible_) H_inv_ = H.inverse();
   }
 
@@ -126,7 +129,7 @@ class PlaneSampler {
     if (!(X >= extent_.min().x() && X <= extent_.max().x() && Y >= extent_.min().y() &&
           Y <= extent_.max().y()))
       return kMiss;
-    return static_cast<float>(target_.Albedo(X, Y));
+    return plain_back_ ? kBackAlbedo : static_cast<float>(target_.Albedo(X, Y));
   }
 
  private:
@@ -134,6 +137,9 @@ class PlaneSampler {
   Eigen::AlignedBox2d extent_;
   Eigen::Matrix3d H_inv_ = Eigen::Matrix3d::Zero();
   bool visible_ = false;
+  bool plain_back_ = false;
+  /// The unprinted back of a sheet: light grey board.
+  static constexpr float kBackAlbedo = 0.8f;
 };
 
 /// Pixel rectangle [u0, u1] × [v0, v1] (inclusive) that holds every pixel that
@@ -378,7 +384,7 @@ cv::Mat RenderView(const Camera& camera, const Target& target,
     throw std::invalid_argument("RenderView: camera has no image size");
 
   cv::Mat image = MakeBackground(camera.width, camera.height, options.clutter, options.seed);
-  const PlaneSampler sampler(target, T_cam_target);
+  const PlaneSampler sampler(target, T_cam_target, options.see_through);
   cv::Rect box;
   if (sampler.visible() && SheetBoundingBox(camera, target, T_cam_target, &box))
     CastSheet(camera, sampler, box, options, &image);

@@ -44,12 +44,14 @@ struct View {
   std::size_t camera = 0;
 };
 
-/// Every view the truth says is visible, in pose then camera order.
-std::vector<View> VisibleViews(const SyntheticScene& scene) {
+/// The views to render, in pose then camera order: every camera at every pose
+/// (as a real capture), or only those the truth counts as seeing the target.
+std::vector<View> ViewsToRender(const SyntheticScene& scene, const RenderOptions& render) {
   std::vector<View> views;
   for (std::size_t j = 0; j < scene.truth.poses.size(); ++j)
     for (std::size_t k = 0; k < scene.dataset.cameras.size(); ++k)
-      if (scene.truth.poses[j].points_px.count(scene.dataset.cameras[k].name)) views.push_back({j, k});
+      if (render.every_view || scene.truth.poses[j].points_px.count(scene.dataset.cameras[k].name))
+        views.push_back({j, k});
   return views;
 }
 
@@ -89,7 +91,7 @@ void WriteSimulation(SyntheticScene* scene, const RenderOptions& render, const s
   // Absolute paths, so the dataset writer can make them relative to its file
   // whatever the working directory.
   const fs::path root = fs::absolute(fs::path(outdir)).lexically_normal();
-  const std::vector<View> views = VisibleViews(*scene);
+  const std::vector<View> views = ViewsToRender(*scene, render);
   std::vector<std::string> paths;
   for (auto& pose : dataset.poses) pose.images.clear();
   for (const View& view : views) {
@@ -112,7 +114,7 @@ void WriteSimulation(SyntheticScene* scene, const RenderOptions& render, const s
 void DetectSimulated(SyntheticScene* scene, const RenderOptions& render, int threads,
                      const std::function<void(std::size_t, std::size_t)>& progress) {
   Dataset& dataset = scene->dataset;
-  const std::vector<View> views = VisibleViews(*scene);
+  const std::vector<View> views = ViewsToRender(*scene, render);
   const std::unique_ptr<Detector> detector = MakeDetector(dataset.target);
   std::vector<std::optional<Observation>> found(views.size());
   RenderViews(*scene, views, render, threads,

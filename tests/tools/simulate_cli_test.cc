@@ -47,8 +47,9 @@ TEST_CASE("simulate writes a dataset, its ground truth and one image per view", 
     CHECK(truth.poses[j].id == pose.id);
     // No pose noise requested: reported poses are the true ones.
     CHECK((truth.poses[j].T_base_ee_true.matrix() - pose.T_base_ee.matrix()).norm() < 1e-12);
-    // An image exactly for each camera that sees the whole board.
-    CHECK(pose.images.size() == truth.poses[j].points_px.size());
+    // An image for every camera, as a real capture: those that see the whole
+    // board and those that do not.
+    CHECK(pose.images.size() == dataset.cameras.size());
     for (const auto& [camera, obs] : truth.poses[j].points_px) {
       REQUIRE(pose.images.count(camera));
       CHECK(fs::path(pose.images.at(camera)).filename() == pose.id + ".png");
@@ -58,6 +59,35 @@ TEST_CASE("simulate writes a dataset, its ground truth and one image per view", 
     }
   }
   CHECK(views >= 3);
+}
+
+TEST_CASE("simulate --visible-only, --swap-poses and --see-through", "[simulate]") {
+  const std::string dir = test::TempDir("simulate_faults");
+  std::string output;
+  REQUIRE(test::RunHandeye("simulate " + dir + " " + kTinyScene +
+                               " --visible-only --swap-poses 1 --see-through",
+                           &output) == 0);
+  INFO(output);
+  const Dataset dataset = LoadDataset(dir + "/dataset.json");
+  const GroundTruth truth = LoadGroundTruth(dir + "/ground_truth.json");
+  int swapped = 0;
+  for (size_t j = 0; j < truth.poses.size(); ++j) {
+    // --visible-only: an image exactly for each camera that sees the whole board.
+    CHECK(dataset.poses[j].images.size() == truth.poses[j].points_px.size());
+    if ((truth.poses[j].T_base_ee_true.matrix() - dataset.poses[j].T_base_ee.matrix()).norm() > 1e-9) {
+      // The record is another pose's.
+      bool another = false;
+      for (const auto& other : truth.poses)
+        another = another || (other.T_base_ee_true.matrix() - dataset.poses[j].T_base_ee.matrix()).norm() < 1e-12;
+      CHECK(another);
+      ++swapped;
+    }
+  }
+  CHECK(swapped == 2);
+  CHECK_THAT(output, Catch::Contains("exchanged (--swap-poses)"));
+  std::string bad;
+  CHECK(test::RunHandeye("simulate " + dir + "/bad " + kTinyScene + " --swap-poses 2", &bad) == 2);
+  CHECK_THAT(bad, Catch::Contains("swapped pose pairs"));
 }
 
 TEST_CASE("simulate output does not depend on the number of threads", "[simulate]") {

@@ -10,6 +10,8 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "handeye/core/dataset.h"
 
@@ -34,6 +36,10 @@ struct SceneOptions {
   /// GroundTruth::PoseTruth): translation σ per axis (mm), rotation σ (deg).
   double pose_noise_mm = 0.0;
   double pose_noise_deg = 0.0;
+  /// Exchange the robot records of this many disjoint pairs of poses after the
+  /// scene is built (a logging fault: each image then carries another pose's
+  /// T_base_ee). The truth keeps the true poses; SyntheticScene lists the pairs.
+  int swap_poses = 0;
   /// A point counts as visible when it projects at least this far inside the image.
   double border_margin_px = 4.0;
 
@@ -47,6 +53,8 @@ struct SceneOptions {
 struct SyntheticScene {
   Dataset dataset;
   GroundTruth truth;  ///< with PoseTruth::points_px of every visible point
+  /// Pose ids whose robot records were exchanged (SceneOptions::swap_poses).
+  std::vector<std::pair<std::string, std::string>> swapped_poses;
 };
 
 /// Builds a scene. Deterministic for a given seed. The target is given so any

@@ -31,6 +31,13 @@ struct RenderOptions {
   double white_level = 225.0;
   /// Draw a cluttered background (otherwise flat mid grey).
   bool clutter = true;
+  /// A see-through (glass) target: seen from behind, its pattern shows
+  /// mirrored. Otherwise a printed sheet, whose back is plain.
+  bool see_through = false;
+  /// `handeye simulate`, WriteSimulation() and DetectSimulated(): render every
+  /// camera at every pose, as a real capture does (targets out of view, edge-on
+  /// or from behind included); false renders only the views the truth counts.
+  bool every_view = true;
   std::uint64_t seed = 1;
 
   /// False, with the reason in `*why`, when a value is out of its domain.
@@ -38,8 +45,9 @@ struct RenderOptions {
 };
 
 /// 8-bit grey image (camera.height × camera.width) of `target` at pose
-/// T_cam_target. The target is drawn only where its printed face is seen
-/// (from its -z side).
+/// T_cam_target. The printed face is seen from the target's -z side; from
+/// the +z side the sheet shows its plain back, or with `see_through` the
+/// pattern mirrored.
 cv::Mat RenderView(const Camera& camera, const Target& target,
                    const Eigen::Isometry3d& T_cam_target, const RenderOptions& options);
 

@@ -12,7 +12,8 @@
 
 namespace handeye {
 
-/// Renders every view of the scene in which the target is visible and writes
+/// Renders the scene's views (every camera at every pose, or with
+/// `render.every_view` false only those in which the target is visible) and writes
 /// OUTDIR/dataset.json, OUTDIR/ground_truth.json and OUTDIR/images/<camera>/<pose>.png.
 /// Fills scene->dataset.poses[*].images. `progress(done, total)` after each image.
 /// Each image gets its own noise/background seed derived from `render.seed`
@@ -23,8 +24,8 @@ void WriteSimulation(SyntheticScene* scene, const RenderOptions& render, const s
                      int threads = 0,
                      const std::function<void(std::size_t, std::size_t)>& progress = {});
 
-/// Renders every visible view of the scene in memory and runs the target's
-/// detector on it, replacing scene->dataset.observations with what was found
+/// Renders the scene's views (as WriteSimulation) in memory and runs the
+/// target's detector on each, replacing scene->dataset.observations with what was found
 /// (pose then camera order). The same images as WriteSimulation, without the
 /// PNG round trip: for benchmarks and tests that need detections, not files.
 void DetectSimulated(SyntheticScene* scene, const RenderOptions& render, int threads = 0,
