@@ -24,8 +24,9 @@ struct CalibrateArgs {
   std::string input;
   std::string output;
   std::string method = "joint";
-  double cauchy_scale_px = 1.0;
+  double cauchy_scale_px = 0.0;  // 0: from the data
   bool no_cross_terms = false;
+  bool keep_all_views = false;
   int threads = 0;
   bool reorthonormalise = false;
   std::string report;  // --report DIR
@@ -48,6 +49,12 @@ void PrintSummary(const CalibrationResult& result) {
   std::printf("rms %.3f px, AX=ZB %.3f mm / %.4f deg, %d iterations, %.3f s\n", result.metrics.rms_px,
               result.metrics.axzb_translation_mm, result.metrics.axzb_rotation_deg, result.solver.iterations,
               result.solver.seconds);
+  int left_out = 0;
+  for (const ViewResult& view : result.views) left_out += view.used ? 0 : 1;
+  if (result.solver.cauchy_scale_px > 0)
+    std::printf("Cauchy loss scale %.3g px, %d solve%s, %d of %zu views left out%s\n",
+                result.solver.cauchy_scale_px, result.solver.rounds, result.solver.rounds == 1 ? "" : "s",
+                left_out, result.views.size(), result.solver.converged ? "" : ", NOT CONVERGED");
 }
 
 void RunCalibrate(const CalibrateArgs& args) {
@@ -61,6 +68,7 @@ void RunCalibrate(const CalibrateArgs& args) {
   options.method = *method;
   options.cauchy_scale_px = args.cauchy_scale_px;
   options.cross_terms = !args.no_cross_terms;
+  options.reject_views = !args.keep_all_views;
   options.threads = args.threads > 0 ? args.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::string why;
   if (!options.Check(&why)) throw InputError("", "", "invalid option: " + why);
@@ -119,7 +127,10 @@ void RegisterCalibrate(CLI::App& app) {
   cmd->add_option("--method", args->method,
                   "joint (default, the paper's method), per-camera, tsai, park, horaud, andreff, "
                   "daniilidis, shah, li, visp");
-  cmd->add_option("--cauchy-scale", args->cauchy_scale_px, "Cauchy loss scale in pixels (default 1)");
+  cmd->add_option("--cauchy-scale", args->cauchy_scale_px,
+                  "Cauchy loss scale in pixels (default: 3 sigma of the residuals, at least 1)");
+  cmd->add_flag("--keep-all-views", args->keep_all_views,
+                "use every view with a plane pose, even those that disagree with the others");
   cmd->add_flag("--no-cross-terms", args->no_cross_terms, "joint: leave out the camera-to-camera terms");
   cmd->add_option("--threads", args->threads, "threads for detection and the solver (0 = all cores)")
       ->check(CLI::NonNegativeNumber);

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Calibrate(): picks the method, runs initialisation and refinement, and
 // fills the result with per-view residuals and the paper's metrics.
+#include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -76,6 +78,79 @@ double ViewRms(const std::vector<double>& errors, double* max_error) {
   return errors.empty() ? 0.0 : std::sqrt(sum / errors.size());
 }
 
+// Per camera, the Z its views use.
+internal::TargetPoses TargetPosesOf(const internal::Refinement& refined, size_t num_cameras) {
+  if (refined.Z.size() == num_cameras) return refined.Z;
+  return internal::TargetPoses(num_cameras, refined.Z.front());
+}
+
+/// The nonlinear solve made robust: `solve(scale)` runs one refinement
+/// (warm-started by the caller from the last one). After each solve, views far
+/// outside the robust residual distribution are excluded and the loss scale is
+/// set from the residuals (when not fixed), then it solves again, until
+/// nothing changes (at most a few rounds).
+internal::Refinement RobustSolve(Problem* problem, const CalibrationOptions& options, double first_scale,
+                                 const std::function<internal::Refinement(double scale_px)>& solve,
+                                 std::vector<std::string>* warnings) {
+  constexpr int kMaxRounds = 5;
+  const size_t n = problem->camera_views.size();
+  const bool fixed_scale = options.cauchy_scale_px > 0;
+  double scale = fixed_scale ? options.cauchy_scale_px : first_scale;
+  SolverSummary total;
+  internal::Refinement refined;
+  int used_before = 0;
+  for (const auto& views : problem->camera_views) used_before += static_cast<int>(views.size());
+  for (int round = 1;; ++round) {
+    refined = solve(scale);
+    total.seconds += refined.summary.seconds;
+    total.iterations += refined.summary.iterations;
+    const internal::TargetPoses Z = TargetPosesOf(refined, n);
+    std::vector<int> off;
+    if (options.reject_views && round < kMaxRounds) off = internal::ViewsOffTheSolution(*problem, refined.X, Z);
+    int used = 0;
+    for (const auto& views : problem->camera_views) used += static_cast<int>(views.size());
+    if (3 * static_cast<int>(off.size()) > used_before) {
+      // So many views cannot all be bad records: the model itself (intrinsics,
+      // target size) or the robot poses as a whole are off. Keep them and say so.
+      warnings->push_back(std::to_string(off.size()) + " of " + std::to_string(used) +
+                          " views lie far outside the residuals of the others; they were kept: "
+                          "check the intrinsics, the target's size and the robot pose units");
+      off.clear();
+    }
+    for (int v : off) {
+      internal::View& view = problem->views[v];
+      const double rms = [&] {
+        double sum = 0;
+        const auto e = internal::ViewErrors(*problem, view, *refined.X[view.camera], Z[view.camera]);
+        for (double x : e) sum += x * x;
+        return std::sqrt(sum / e.size());
+      }();
+      std::ostringstream why;
+      why.precision(3);
+      why << "it disagrees with the calibration of the other views (RMS " << rms
+          << " px, far outside their residuals): the robot record or the image is off";
+      view.used = false;
+      view.inconsistent = true;
+      view.rejected_because = why.str();
+    }
+    if (!off.empty()) internal::IndexUsedViews(problem);
+    double new_scale = scale;
+    if (!fixed_scale)
+      new_scale = std::max(1.0, 3.0 * internal::ResidualSigmaPx(*problem, refined.X, Z));
+    const bool scale_settled = std::abs(new_scale - scale) <= 0.1 * scale;
+    if ((off.empty() && scale_settled) || round == kMaxRounds) {
+      total.rounds = round;
+      break;
+    }
+    scale = new_scale;
+  }
+  total.converged = refined.summary.converged;
+  total.termination = refined.summary.termination;
+  total.cauchy_scale_px = scale;
+  refined.summary = total;
+  return refined;
+}
+
 void FillResult(const Problem& problem, const Estimate& est, const CalibrationOptions& options,
                 CalibrationResult* result) {
   const Dataset& dataset = *problem.dataset;
@@ -98,7 +173,7 @@ void FillResult(const Problem& problem, const Estimate& est, const CalibrationOp
       const Eigen::Isometry3d& Z = est.per_camera_Z ? est.Z[view.camera] : est.shared_Z;
       const auto errors = internal::ViewErrors(problem, view, *X, Z);
       vr.rms_px = ViewRms(errors, &vr.max_px);
-      vr.outlier = view.used && vr.rms_px > 3.0 * options.cauchy_scale_px;
+      vr.outlier = view.used && vr.rms_px > 3.0 * result->solver.cauchy_scale_px;
       if (view.used) {
         for (double e : errors) sq_sum[view.camera] += e * e;
         points[view.camera] += static_cast<int>(errors.size());
@@ -163,7 +238,10 @@ bool CalibrationOptions::Check(std::string* why) const {
     if (why) *why = reason;
     return false;
   };
-  if (!(cauchy_scale_px > 0) || !std::isfinite(cauchy_scale_px)) return fail("cauchy_scale_px must be > 0");
+  if (!(cauchy_scale_px >= 0) || !std::isfinite(cauchy_scale_px))
+    return fail("cauchy_scale_px must be > 0 (or 0: from the data)");
+  if (!(step_tolerance_mm > 0) || !(step_tolerance_deg > 0))
+    return fail("step tolerances must be > 0");
   if (!(pnp_max_rms_px > 0) || !std::isfinite(pnp_max_rms_px)) return fail("pnp_max_rms_px must be > 0");
   if (max_iterations < 1) return fail("max_iterations must be >= 1");
   if (threads < 1) return fail("threads must be >= 1");
@@ -178,14 +256,10 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   result.setup = dataset.setup;
   result.method = options.method;
 
-  const Problem problem = internal::BuildProblem(dataset, options);
+  Problem problem = internal::BuildProblem(dataset, options);
+  if (options.reject_views) internal::RejectInconsistentMotions(&problem);
   int used_views = 0;
-  for (const View& view : problem.views) {
-    if (view.used) ++used_views;
-    else
-      result.warnings.push_back("view of pose '" + view.observation->pose_id + "' by camera '" +
-                                view.observation->camera + "' rejected: " + view.rejected_because);
-  }
+  for (const View& view : problem.views) used_views += view.used ? 1 : 0;
   if (used_views < 3)
     throw SolveError("too few views: " + std::to_string(used_views) +
                      " usable views of the target; take at least 3 (better 10 or more) robot poses "
@@ -194,9 +268,26 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
 
   Estimate est;
   if (options.method == Method::kJoint) {
-    const internal::Initialisation init = internal::InitialiseJoint(problem);
+    internal::Initialisation init = internal::InitialiseJoint(problem);
     result.notes.insert(result.notes.end(), init.notes.begin(), init.notes.end());
-    const internal::Refinement refined = internal::RefineJoint(problem, init, options);
+    // The first loss scale from the residuals at the closed-form start: a
+    // start that is far off is then solved nearly as least squares, and the
+    // scale narrows once the residuals are known.
+    const double first_scale = std::max(
+        1.0, 3.0 * internal::ResidualSigmaPx(problem, init.X,
+                                             internal::TargetPoses(dataset.cameras.size(), init.Z)));
+    const internal::Refinement refined = RobustSolve(
+        &problem, options, first_scale,
+        [&](double scale) {
+          CalibrationOptions round = options;
+          round.cauchy_scale_px = scale;
+          internal::Refinement r = internal::RefineJoint(problem, init, round);
+          for (size_t k = 0; k < r.X.size(); ++k)
+            if (r.X[k]) init.X[k] = r.X[k];  // warm start of the next round
+          init.Z = r.Z[0];
+          return r;
+        },
+        &result.warnings);
     est.X = refined.X;
     est.shared_Z = refined.Z[0];
     result.solver = refined.summary;
@@ -217,7 +308,20 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     // Each camera on its own: ViSP (on diverse views) then the reprojection
     // solve with its own Z over all views.
     est = PerCameraEstimate(internal::WithDiverseViews(problem, 12), Method::kVisp, &result.warnings);
-    const internal::Refinement refined = internal::RefinePerCamera(problem, est.X, est.Z, options);
+    const double first_scale =
+        std::max(1.0, 3.0 * internal::ResidualSigmaPx(problem, est.X, est.Z));
+    const internal::Refinement refined = RobustSolve(
+        &problem, options, first_scale,
+        [&](double scale) {
+          CalibrationOptions round = options;
+          round.cauchy_scale_px = scale;
+          internal::Refinement r = internal::RefinePerCamera(problem, est.X, est.Z, round);
+          for (size_t k = 0; k < r.X.size(); ++k)
+            if (r.X[k]) est.X[k] = r.X[k];
+          est.Z = r.Z;
+          return r;
+        },
+        &result.warnings);
     est.X = refined.X;
     est.Z = refined.Z;
     std::vector<Eigen::Isometry3d> solved;
@@ -230,6 +334,21 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     result.solver.converged = true;
     result.solver.termination = "CLOSED_FORM";
   }
+  if (!result.solver.converged)
+    result.warnings.push_back(
+        "the solver stopped at the iteration limit (" + std::to_string(options.max_iterations) +
+        " iterations) while the estimate was still moving by more than " +
+        std::to_string(options.step_tolerance_mm) + " mm / " + std::to_string(options.step_tolerance_deg) +
+        " deg per iteration; the result is written but may not be final");
+  internal::TargetPoses Z(dataset.cameras.size(), est.shared_Z);
+  if (est.per_camera_Z) Z = est.Z;
+  internal::ExplainInconsistentViews(&problem, est.X, Z);
+  for (const View& view : problem.views)
+    if (!view.used)
+      result.warnings.push_back("view of pose '" + view.observation->pose_id + "' by camera '" +
+                                view.observation->camera + "' left out: " + view.rejected_because);
+  const auto pose_warnings = internal::PoseRecordWarnings(problem, est.X, Z);
+  result.warnings.insert(result.warnings.end(), pose_warnings.begin(), pose_warnings.end());
   // Pairs for the methods without pair parameters: chained through the base.
   if (result.camera_pairs.empty() && options.method != Method::kJoint) {
     for (size_t k = 0; k < est.X.size(); ++k)

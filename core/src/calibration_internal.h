@@ -21,6 +21,9 @@ struct View {
   double pnp_rms_px = 0;
   bool used = true;
   std::string rejected_because;
+  /// Excluded for disagreeing with the other views (robot motion vote or
+  /// residuals after a solve), as opposed to failing on its own (PnP).
+  bool inconsistent = false;
 };
 
 /// The dataset in the solver's terms: M_j per pose and the views.
@@ -33,6 +36,46 @@ struct Problem {
 
 /// Builds views, runs PnP per view and drops views whose points fit no plane pose.
 Problem BuildProblem(const Dataset& dataset, const CalibrationOptions& options);
+
+/// Rebuilds problem->camera_views from the views' `used` flags.
+void IndexUsedViews(Problem* problem);
+
+/// The robot-motion vote, before any estimate: for two views a, b of one
+/// camera, the target's motion seen by the camera (T_cam_target[a] ·
+/// T_cam_target[b]⁻¹) and the robot's motion (M_a · M_b⁻¹) are conjugate
+/// (X_k between them), so their rotation angles and screw pitches agree
+/// whatever X_k and Z are. A view that agrees with fewer than half of the
+/// camera's other views, where most views agree with most, is excluded: its
+/// robot record belongs to another pose, or its image to another time.
+/// Returns the number of views excluded.
+int RejectInconsistentMotions(Problem* problem);
+
+/// Per camera: the Z its views use (joint: the shared one for every camera).
+using TargetPoses = std::vector<Eigen::Isometry3d>;
+
+/// Used views whose RMS through the solution lies far outside the robust
+/// distribution of view RMS (per camera where it has five views or more):
+/// above max(median + 8·1.4826·MAD, 4·median, 0.5 px).
+std::vector<int> ViewsOffTheSolution(const Problem& problem,
+                                     const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                                     const TargetPoses& Z);
+
+/// σ (pixels, per image axis) of the reprojection residuals of the used
+/// views, from their median (robust to a few bad points).
+double ResidualSigmaPx(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                       const TargetPoses& Z);
+
+/// Views excluded as inconsistent that fit the solution with the target turned
+/// over (a half turn about an axis in its plane) are a see-through target read
+/// from behind, whose mirrored pattern PnP takes for a front view: says so.
+void ExplainInconsistentViews(Problem* problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                              const TargetPoses& Z);
+
+/// One warning per robot pose all of whose views were excluded as
+/// inconsistent: the pose record and the images likely do not belong together.
+std::vector<std::string> PoseRecordWarnings(const Problem& problem,
+                                            const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                                            const TargetPoses& Z);
 
 /// Throws SolveError when the used views' robot motions cannot determine Z
 /// (fewer than two motions with non-parallel rotation axes, or tiny rotations).

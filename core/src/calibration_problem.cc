@@ -3,6 +3,7 @@
 // geometric helpers every method shares.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/calib3d.hpp>
 #include <set>
 #include <sstream>
@@ -36,7 +37,7 @@ double PnpRms(const Camera& camera, const View& view, const Eigen::Isometry3d& T
 
 // Target pose in the camera from a planar point set: IPPE on all points, then
 // Levenberg–Marquardt; when that does not fit, RANSAC finds the points that do.
-void SolvePnp(const Camera& camera, double max_rms_px, View* view) {
+void SolvePnpAnySide(const Camera& camera, double max_rms_px, View* view) {
   const size_t n = view->p_target.size();
   if (n < 4) {
     view->used = false;
@@ -96,6 +97,25 @@ void SolvePnp(const Camera& camera, double max_rms_px, View* view) {
   view->rejected_because = why.str();
 }
 
+// The printed face is seen from the target's -z side. A pose that puts the
+// camera on the +z side explains points whose ids are mirrored: a see-through
+// (glass) target seen from behind, whose pattern the detector read reversed.
+bool SeenFromBehind(const Eigen::Isometry3d& T_cam_target) {
+  return T_cam_target.inverse().translation().z() > 0;
+}
+
+void SolvePnp(const Camera& camera, double max_rms_px, View* view) {
+  SolvePnpAnySide(camera, max_rms_px, view);
+  if (view->T_cam_target && SeenFromBehind(*view->T_cam_target)) {
+    // No pose of the target fits the view as it was read.
+    view->T_cam_target.reset();
+    view->used = false;
+    view->rejected_because =
+        "the target is seen from behind: its points are mirrored (a see-through target seen "
+        "from its back?)";
+  }
+}
+
 struct MotionAxes {
   std::vector<Eigen::Vector3d> axes;  // unit axes of motions above the angle threshold
   double largest_deg = 0;
@@ -151,8 +171,7 @@ Problem BuildProblem(const Dataset& dataset, const CalibrationOptions& options) 
     SolvePnp(dataset.cameras[view.camera], options.pnp_max_rms_px, &view);
     problem.views.push_back(std::move(view));
   }
-  for (size_t i = 0; i < problem.views.size(); ++i)
-    if (problem.views[i].used) problem.camera_views[problem.views[i].camera].push_back(static_cast<int>(i));
+  IndexUsedViews(&problem);
   return problem;
 }
 
@@ -197,6 +216,42 @@ Eigen::Isometry3d MeanTransform(const std::vector<Eigen::Isometry3d>& transforms
   return mean;
 }
 
+namespace {
+
+/// The mean of the estimates that lie near their medoid (the estimate with the
+/// least summed distance to the others; 1 rad counts as 1 m): one view whose
+/// robot record belongs to another pose cannot drag the start off.
+Eigen::Isometry3d ConsensusTransform(const std::vector<Eigen::Isometry3d>& estimates) {
+  const size_t n = estimates.size();
+  if (n <= 2) return MeanTransform(estimates);
+  auto distance = [](const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+    return (a.translation() - b.translation()).norm() + RotationDistance(a.rotation(), b.rotation());
+  };
+  // With many views, the medoid among a spread-out subset is as good.
+  const size_t step = std::max<size_t>(1, n / 64);
+  size_t medoid = 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < n; i += step) {
+    double sum = 0;
+    for (size_t j = 0; j < n; j += step) sum += distance(estimates[i], estimates[j]);
+    if (sum < best) {
+      best = sum;
+      medoid = i;
+    }
+  }
+  std::vector<double> distances;
+  for (const auto& T : estimates) distances.push_back(distance(T, estimates[medoid]));
+  std::vector<double> sorted = distances;
+  std::nth_element(sorted.begin(), sorted.begin() + n / 2, sorted.end());
+  const double limit = std::max(3.0 * sorted[n / 2], 1e-6);
+  std::vector<Eigen::Isometry3d> near;
+  for (size_t i = 0; i < n; ++i)
+    if (distances[i] <= limit) near.push_back(estimates[i]);
+  return MeanTransform(near);
+}
+
+}  // namespace
+
 std::optional<Eigen::Isometry3d> CameraFromTarget(const Problem& problem, int camera,
                                                   const Eigen::Isometry3d& Z) {
   std::vector<Eigen::Isometry3d> estimates;
@@ -205,7 +260,7 @@ std::optional<Eigen::Isometry3d> CameraFromTarget(const Problem& problem, int ca
     estimates.push_back(*view.T_cam_target * Z.inverse() * problem.M[view.pose].inverse());
   }
   if (estimates.empty()) return std::nullopt;
-  return MeanTransform(estimates);
+  return ConsensusTransform(estimates);
 }
 
 std::optional<Eigen::Isometry3d> TargetFromCamera(const Problem& problem, int camera,
@@ -216,7 +271,7 @@ std::optional<Eigen::Isometry3d> TargetFromCamera(const Problem& problem, int ca
     estimates.push_back(problem.M[view.pose].inverse() * X.inverse() * *view.T_cam_target);
   }
   if (estimates.empty()) return std::nullopt;
-  return MeanTransform(estimates);
+  return ConsensusTransform(estimates);
 }
 
 std::vector<double> ViewErrors(const Problem& problem, const View& view, const Eigen::Isometry3d& X,

@@ -5,6 +5,7 @@
 #include <ceres/ordered_groups.h>
 #include <ceres/product_manifold.h>
 #include <ceres/problem.h>
+#include <ceres/iteration_callback.h>
 #include <ceres/solver.h>
 
 #include <chrono>
@@ -13,6 +14,7 @@
 #include "calibration_internal.h"
 #include "handeye/core/cost_functions.h"
 #include "handeye/core/error.h"
+#include "handeye/core/transform.h"
 
 namespace handeye::internal {
 namespace {
@@ -30,6 +32,35 @@ class PoseBlocks {
 
  private:
   std::vector<std::unique_ptr<PoseParams>> blocks_;
+};
+
+/// Stops the solve when no pose block moves by more than the tolerances in an
+/// iteration: a convergence test in millimetres and degrees, which the
+/// relative tolerances of Ceres (on the cost and the parameter vector) are not.
+class StepTolerance : public ceres::IterationCallback {
+ public:
+  StepTolerance(std::vector<const double*> blocks, const CalibrationOptions& options)
+      : blocks_(std::move(blocks)), max_translation_m_(options.step_tolerance_mm / 1000.0),
+        max_rotation_rad_(options.step_tolerance_deg * M_PI / 180.0) {
+    for (const double* block : blocks_) previous_.push_back(FromPoseParams(block));
+  }
+
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    if (summary.iteration == 0 || !summary.step_is_successful) return ceres::SOLVER_CONTINUE;
+    bool moved = false;
+    for (size_t i = 0; i < blocks_.size(); ++i) {
+      const Eigen::Isometry3d now = FromPoseParams(blocks_[i]);
+      moved = moved || (now.translation() - previous_[i].translation()).norm() > max_translation_m_ ||
+              RotationDistance(now.rotation(), previous_[i].rotation()) > max_rotation_rad_;
+      previous_[i] = now;
+    }
+    return moved ? ceres::SOLVER_CONTINUE : ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+  }
+
+ private:
+  std::vector<const double*> blocks_;
+  std::vector<Eigen::Isometry3d> previous_;
+  double max_translation_m_, max_rotation_rad_;
 };
 
 std::shared_ptr<const ViewPoints> Points(const View& view) {
@@ -59,20 +90,30 @@ ceres::Solver::Options SolverOptions(const CalibrationOptions& options, const ce
   return solver;
 }
 
-SolverSummary Solve(const ceres::Solver::Options& solver, ceres::Problem* problem) {
+/// Solves; a solve that stops at the iteration limit is returned (converged
+/// false) for the caller to warn about, a failed one throws.
+SolverSummary Solve(ceres::Solver::Options solver, const CalibrationOptions& options,
+                    ceres::Problem* problem) {
+  std::vector<double*> blocks;
+  problem->GetParameterBlocks(&blocks);
+  StepTolerance step_tolerance({blocks.begin(), blocks.end()}, options);
+  solver.callbacks.push_back(&step_tolerance);
+  solver.update_state_every_iteration = true;  // the callback reads the blocks
   ceres::Solver::Summary summary;
   const auto start = std::chrono::steady_clock::now();
   ceres::Solve(solver, problem, &summary);
   SolverSummary out;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.iterations = static_cast<int>(summary.iterations.size()) - 1;
-  out.converged = summary.termination_type == ceres::CONVERGENCE;
-  out.termination = ceres::TerminationTypeToString(summary.termination_type);
+  out.converged = summary.termination_type == ceres::CONVERGENCE ||
+                  summary.termination_type == ceres::USER_SUCCESS;
+  out.termination = summary.termination_type == ceres::USER_SUCCESS
+                        ? "CONVERGENCE (steps below the mm/deg tolerances)"
+                        : ceres::TerminationTypeToString(summary.termination_type);
+  out.cauchy_scale_px = options.cauchy_scale_px;
+  out.rounds = 1;
   if (summary.termination_type == ceres::FAILURE || summary.termination_type == ceres::USER_FAILURE)
     throw SolveError("the nonlinear solver failed: " + summary.message);
-  if (!out.converged)
-    throw SolveError("the nonlinear solver did not converge in " + std::to_string(out.iterations) +
-                     " iterations (" + summary.message + ")");
   return out;
 }
 
@@ -163,7 +204,7 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
   // on the way to the same minimum.
   solver.initial_trust_region_radius = 1e6;
   Refinement out;
-  out.summary = Solve(solver, &ceres_problem);
+  out.summary = Solve(solver, options, &ceres_problem);
   out.Z.push_back(PoseBlocks::Get(Z));
   out.X.resize(X.size());
   for (size_t k = 0; k < X.size(); ++k)
@@ -179,6 +220,9 @@ Refinement RefinePerCamera(const Problem& problem, const std::vector<std::option
   Refinement out;
   out.X.resize(dataset.cameras.size());
   out.Z = Z0;
+  out.summary.converged = true;  // until a camera's solve does not
+  out.summary.cauchy_scale_px = options.cauchy_scale_px;
+  out.summary.rounds = 1;
   for (size_t k = 0; k < dataset.cameras.size(); ++k) {
     if (!X0[k] || problem.camera_views[k].empty()) continue;
     ceres::Problem::Options problem_options;
@@ -198,14 +242,14 @@ Refinement RefinePerCamera(const Problem& problem, const std::vector<std::option
                                         options.cauchy_scale_px),
           nullptr, X, Z);
     }
-    const SolverSummary s = Solve(SolverOptions(options, ceres_problem), &ceres_problem);
+    const SolverSummary s = Solve(SolverOptions(options, ceres_problem), options, &ceres_problem);
     out.summary.seconds += s.seconds;
     out.summary.iterations += s.iterations;
     out.summary.termination = s.termination;
+    out.summary.converged = out.summary.converged && s.converged;
     out.X[k] = PoseBlocks::Get(X);
     out.Z[k] = PoseBlocks::Get(Z);
   }
-  out.summary.converged = true;
   return out;
 }
 

@@ -75,7 +75,9 @@ void SaveResult(const CalibrationResult& result, const std::string& path) {
   root["solver"] = {{"seconds", result.solver.seconds},
                     {"iterations", result.solver.iterations},
                     {"converged", result.solver.converged},
-                    {"termination", result.solver.termination}};
+                    {"termination", result.solver.termination},
+                    {"cauchy_scale_px", result.solver.cauchy_scale_px},
+                    {"rounds", result.solver.rounds}};
   nlohmann::ordered_json views = nlohmann::ordered_json::array();
   for (const ViewResult& v : result.views) {
     nlohmann::ordered_json entry;
@@ -146,6 +148,8 @@ CalibrationResult LoadResult(const std::string& path) {
   result.solver.iterations = solver.Key("iterations").Int(0);
   result.solver.converged = ReadBool(solver.Key("converged"));
   result.solver.termination = solver.Key("termination").String();
+  if (solver.Has("cauchy_scale_px")) result.solver.cauchy_scale_px = solver.Key("cauchy_scale_px").Number();
+  if (solver.Has("rounds")) result.solver.rounds = solver.Key("rounds").Int(0);
   if (root.Has("views")) {
     const JsonReader views = root.Key("views");
     const size_t n = views.ArraySize("an array of views");

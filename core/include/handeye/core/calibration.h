@@ -35,19 +35,30 @@ std::vector<std::string> MethodNames();
 /// How Calibrate() solves. Defaults are the paper's method.
 struct CalibrationOptions {
   Method method = Method::kJoint;  ///< SPEC §7 `--method`
-  /// Scale of the Cauchy loss on every reprojection residual, pixels.
-  double cauchy_scale_px = 1.0;
+  /// Scale of the Cauchy loss on every reprojection residual, pixels; 0
+  /// (default) sets it from the data: 3 σ of the residuals seen after a first
+  /// solve (σ from their median), at least 1 px (the paper's value), so a cell
+  /// whose robot adds pixels of error is not solved in the loss's flat tail.
+  double cauchy_scale_px = 0.0;
   /// The paper's camera-to-camera terms c_cross (joint method only).
   bool cross_terms = true;
   /// Views whose PnP pose explains the detected points worse than this RMS
   /// (pixels) are dropped before initialisation (corners that fit no plane pose).
   double pnp_max_rms_px = 3.0;
+  /// Views that do not fit the consensus are excluded and named: robot
+  /// motions that no other view of the camera agrees with (before the solve),
+  /// and views far outside the robust residual distribution after it.
+  bool reject_views = true;
   int max_iterations = 200;
+  /// The solve has converged when no camera, target or pair pose moves by
+  /// more than these in an iteration (or Ceres' own tolerances are met).
+  double step_tolerance_mm = 1e-4;
+  double step_tolerance_deg = 1e-5;
   /// Threads for Ceres.
   int threads = 1;
 
   /// False, with the reason in `*why`, when a value is out of its domain
-  /// (non-positive scale, iterations or threads, …). Calibrate() checks them
+  /// (negative scale, non-positive iterations or threads, …). Calibrate() checks them
   /// too and throws InputError.
   bool Check(std::string* why) const;
 };
@@ -57,7 +68,7 @@ struct ViewResult {
   std::string pose_id;  ///< RobotPose::id
   std::string camera;   ///< Camera::name
   int num_points = 0;   ///< detected target points in the view
-  bool used = true;             ///< false: rejected before the solve (PnP check)
+  bool used = true;             ///< false: excluded (see rejected_because)
   std::string rejected_because; ///< why, when not used
   double rms_px = 0;            ///< reprojection through the calibrated chain
   double max_px = 0;            ///< largest point error of the view, pixels
@@ -97,8 +108,12 @@ struct CalibrationMetrics {
 struct SolverSummary {
   double seconds = 0;        ///< wall time of the solve
   int iterations = 0;        ///< Ceres iterations (0 for closed-form methods)
+  /// False when the solver stopped at the iteration limit: the result is
+  /// written with a warning, not thrown away.
   bool converged = false;
   std::string termination;   ///< Ceres' termination type, or the method's status
+  double cauchy_scale_px = 0;  ///< the robust loss scale used (0 for closed forms)
+  int rounds = 0;  ///< solves run (each after excluding views off the previous one)
 };
 
 /// Everything a calibration produced. A plain value; frames and units as in
@@ -122,7 +137,8 @@ struct CalibrationResult {
 /// Calibrates from the dataset's observations (detect first for images).
 /// Reentrant: calls on different datasets may run at the same time.
 /// Throws InputError for inconsistent input and SolveError when the problem
-/// cannot be solved (too few views, degenerate motion, no convergence).
+/// cannot be solved (too few views, degenerate motion, a failed solve). A
+/// solve that hits the iteration limit is returned with a warning.
 CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& options);
 
 }  // namespace handeye

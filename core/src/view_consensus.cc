@@ -1,0 +1,234 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Views that do not fit the consensus of the others: the robot-motion vote
+// before any estimate, the residual check after a solve, and the warnings
+// that name robot poses whose record does not belong to their images.
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "calibration_internal.h"
+#include "handeye/core/transform.h"
+
+namespace handeye::internal {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + values.size() / 2;
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+/// Conjugation invariants of a rigid motion: its rotation angle, and its
+/// translation along the rotation axis (the screw pitch).
+struct Screw {
+  double angle_rad = 0;
+  double pitch_m = 0;
+};
+
+Screw ScrewOf(const Eigen::Isometry3d& T) {
+  const Eigen::Vector3d rotvec = RotationVectorFromMatrix(T.rotation());
+  Screw screw;
+  screw.angle_rad = rotvec.norm();
+  if (screw.angle_rad > 1e-9) screw.pitch_m = T.translation().dot(rotvec / screw.angle_rad);
+  return screw;
+}
+
+/// The axis of a motion that turns by less than this is too poorly defined
+/// for its pitch to be compared.
+constexpr double kMinAngleForPitch = 3.0 * kDeg;
+/// Each view is compared with at most this many others of its camera.
+constexpr size_t kMaxPartners = 48;
+
+/// How two views' motions compare: differences of the invariants.
+struct MotionMismatch {
+  double angle_rad = 0;
+  double pitch_m = -1;  ///< < 0: not comparable (small rotation)
+};
+
+MotionMismatch Compare(const Problem& problem, const View& a, const View& b) {
+  const Screw seen = ScrewOf(*a.T_cam_target * b.T_cam_target->inverse());
+  const Screw moved = ScrewOf(problem.M[a.pose] * problem.M[b.pose].inverse());
+  MotionMismatch m;
+  m.angle_rad = std::abs(seen.angle_rad - moved.angle_rad);
+  if (seen.angle_rad > kMinAngleForPitch && moved.angle_rad > kMinAngleForPitch)
+    m.pitch_m = std::abs(seen.pitch_m - moved.pitch_m);
+  return m;
+}
+
+/// Residual norms (pixels) of every point of a used view through (X, Z).
+std::vector<double> PointErrors(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                                const TargetPoses& Z) {
+  std::vector<double> errors;
+  for (const View& view : problem.views) {
+    if (!view.used || !X[view.camera]) continue;
+    const auto e = ViewErrors(problem, view, *X[view.camera], Z[view.camera]);
+    errors.insert(errors.end(), e.begin(), e.end());
+  }
+  return errors;
+}
+
+double Rms(const std::vector<double>& errors) {
+  double sum = 0;
+  for (double e : errors) sum += e * e;
+  return errors.empty() ? 0.0 : std::sqrt(sum / errors.size());
+}
+
+}  // namespace
+
+void IndexUsedViews(Problem* problem) {
+  for (auto& views : problem->camera_views) views.clear();
+  for (size_t i = 0; i < problem->views.size(); ++i)
+    if (problem->views[i].used) problem->camera_views[problem->views[i].camera].push_back(static_cast<int>(i));
+}
+
+int RejectInconsistentMotions(Problem* problem) {
+  int rejected = 0;
+  for (const std::vector<int>& ids : problem->camera_views) {
+    const size_t n = ids.size();
+    if (n < 4) continue;  // three views: one pair against each; no majority to speak of
+    // Each view against up to kMaxPartners others, spread over the camera's views.
+    const size_t partners = std::min(n - 1, kMaxPartners);
+    std::vector<std::vector<MotionMismatch>> mismatch(n);
+    std::vector<double> angles, pitches;
+    for (size_t a = 0; a < n; ++a)
+      for (size_t i = 1; i <= partners; ++i) {
+        const size_t b = (a + i * (n - 1) / partners) % n;
+        const MotionMismatch m = Compare(*problem, problem->views[ids[a]], problem->views[ids[b]]);
+        mismatch[a].push_back(m);
+        angles.push_back(m.angle_rad);
+        if (m.pitch_m >= 0) pitches.push_back(m.pitch_m);
+      }
+    // Tolerances from the camera's own pairs (≈ 4σ of the typical mismatch,
+    // which PnP and the robot's own errors set), with floors for noise-free data.
+    const double angle_tolerance = std::max(0.1 * kDeg, 6.0 * Median(angles));
+    const double pitch_tolerance = std::max(1e-3, 6.0 * Median(pitches));
+    std::vector<double> support(n);
+    for (size_t a = 0; a < n; ++a) {
+      int agree = 0;
+      for (const MotionMismatch& m : mismatch[a])
+        agree += m.angle_rad <= angle_tolerance && m.pitch_m <= pitch_tolerance ? 1 : 0;
+      support[a] = static_cast<double>(agree) / mismatch[a].size();
+    }
+    // Only a clear majority votes a view out.
+    if (Median(support) < 0.5) continue;
+    for (size_t a = 0; a < n; ++a) {
+      if (support[a] >= 0.5) continue;
+      View& view = problem->views[ids[a]];
+      view.used = false;
+      view.inconsistent = true;
+      std::ostringstream why;
+      why << "its robot motion agrees with " << std::lround(100.0 * support[a])
+          << " % of the camera's other views (most agree with "
+          << std::lround(100.0 * Median(support))
+          << " %): the robot record likely belongs to another pose or time";
+      view.rejected_because = why.str();
+      ++rejected;
+    }
+  }
+  if (rejected) IndexUsedViews(problem);
+  return rejected;
+}
+
+std::vector<int> ViewsOffTheSolution(const Problem& problem,
+                                     const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                                     const TargetPoses& Z) {
+  const size_t n = problem.camera_views.size();
+  std::vector<double> rms(problem.views.size(), 0.0);
+  std::vector<std::vector<double>> per_camera(n);
+  std::vector<double> all;
+  for (size_t k = 0; k < n; ++k) {
+    if (!X[k]) continue;
+    for (int v : problem.camera_views[k]) {
+      rms[v] = Rms(ViewErrors(problem, problem.views[v], *X[k], Z[k]));
+      per_camera[k].push_back(rms[v]);
+      all.push_back(rms[v]);
+    }
+  }
+  auto threshold = [](const std::vector<double>& values) {
+    const double median = Median(values);
+    std::vector<double> deviations;
+    for (double x : values) deviations.push_back(std::abs(x - median));
+    return std::max({median + 8.0 * 1.4826 * Median(deviations), 4.0 * median, 0.5});
+  };
+  const double global_threshold = threshold(all);
+  std::vector<int> off;
+  for (size_t k = 0; k < n; ++k) {
+    if (!X[k]) continue;
+    const double limit = per_camera[k].size() >= 5 ? threshold(per_camera[k]) : global_threshold;
+    for (int v : problem.camera_views[k])
+      if (rms[v] > limit) off.push_back(v);
+  }
+  return off;
+}
+
+double ResidualSigmaPx(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                       const TargetPoses& Z) {
+  // The norm of a 2D Gaussian residual of σ per axis has median σ·√(2 ln 2).
+  return Median(PointErrors(problem, X, Z)) / std::sqrt(2.0 * std::log(2.0));
+}
+
+void ExplainInconsistentViews(Problem* problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                              const TargetPoses& Z) {
+  for (View& view : problem->views) {
+    if (!view.inconsistent || !view.T_cam_target || !X[view.camera]) continue;
+    // The target pose the view's PnP found, in the target frame the chain predicts.
+    const Eigen::Isometry3d T_predicted_seen =
+        (*X[view.camera] * problem->M[view.pose] * Z[view.camera]).inverse() * *view.T_cam_target;
+    const Eigen::Vector3d rotvec = RotationVectorFromMatrix(T_predicted_seen.rotation());
+    const double angle = rotvec.norm();
+    // A half turn about an axis in the target's plane: the sheet turned over.
+    if (angle < 170.0 * kDeg || std::abs(rotvec.z()) > std::sin(10.0 * kDeg) * angle) continue;
+    view.inconsistent = false;  // the image's problem, not the robot record's
+    view.rejected_because =
+        "the target is seen from behind, its pattern mirrored (a see-through target?): the view "
+        "fits the calibration only with the target turned over";
+  }
+}
+
+std::vector<std::string> PoseRecordWarnings(const Problem& problem,
+                                            const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                                            const TargetPoses& Z) {
+  const Dataset& dataset = *problem.dataset;
+  // The target's centre (its points' mean) locates it better than its origin.
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const TargetPoint& p : dataset.target->Points()) centre += p.p_target;
+  centre /= std::max<size_t>(1, dataset.target->Points().size());
+  std::vector<std::string> warnings;
+  for (size_t j = 0; j < dataset.poses.size(); ++j) {
+    std::vector<const View*> seen;  // views of the pose that had a target pose of their own
+    bool all_inconsistent = true;
+    for (const View& view : problem.views) {
+      if (view.pose != static_cast<int>(j) || !view.T_cam_target) continue;
+      seen.push_back(&view);
+      all_inconsistent = all_inconsistent && view.inconsistent;
+    }
+    if (seen.empty() || !all_inconsistent) continue;
+    double sum_mm = 0;
+    int measured = 0;
+    std::string cameras;
+    for (const View* view : seen) {
+      cameras += (cameras.empty() ? "" : ", ") + dataset.cameras[view->camera].name;
+      if (!X[view->camera]) continue;
+      // Where the robot record puts the target, against where the camera saw
+      // it, both in X's frame (the camera's mount).
+      const Eigen::Vector3d by_robot = problem.M[j] * Z[view->camera] * centre;
+      const Eigen::Vector3d by_camera = X[view->camera]->inverse() * *view->T_cam_target * centre;
+      sum_mm += 1000.0 * (by_robot - by_camera).norm();
+      ++measured;
+    }
+    std::ostringstream warning;
+    warning << "pose " << dataset.poses[j].id << ": its robot record disagrees with "
+            << (seen.size() == 1 ? "its only view" : seen.size() == 2 ? "both views" : "every view")
+            << " (" << cameras << ")";
+    if (measured) warning << " by ≈ " << std::lround(sum_mm / measured) << " mm";
+    warning << ": the image and the pose likely do not belong together; its views were left out";
+    warnings.push_back(warning.str());
+  }
+  return warnings;
+}
+
+}  // namespace handeye::internal
