@@ -27,6 +27,8 @@ struct CalibrateArgs {
   double cauchy_scale_px = 0.0;  // 0: from the data
   bool no_cross_terms = false;
   bool keep_all_views = false;
+  double robot_sigma_mm = -1;  // < 0: estimated
+  double robot_sigma_deg = -1;
   int threads = 0;
   bool reorthonormalise = false;
   std::string report;  // --report DIR
@@ -69,6 +71,8 @@ void RunCalibrate(const CalibrateArgs& args) {
   options.cauchy_scale_px = args.cauchy_scale_px;
   options.cross_terms = !args.no_cross_terms;
   options.reject_views = !args.keep_all_views;
+  options.robot_sigma_mm = args.robot_sigma_mm;
+  options.robot_sigma_deg = args.robot_sigma_deg;
   options.threads = args.threads > 0 ? args.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::string why;
   if (!options.Check(&why)) throw InputError("", "", "invalid option: " + why);
@@ -129,6 +133,11 @@ void RegisterCalibrate(CLI::App& app) {
                   "daniilidis, shah, li, visp");
   cmd->add_option("--cauchy-scale", args->cauchy_scale_px,
                   "Cauchy loss scale in pixels (default: 3 sigma of the residuals, at least 1)");
+  cmd->add_option("--robot-sigma-mm", args->robot_sigma_mm,
+                  "joint: the robot's pose error, sigma per axis of the flange position in mm (with "
+                  "--robot-sigma-deg; 0 and 0: poses exact; default: estimated from the views)");
+  cmd->add_option("--robot-sigma-deg", args->robot_sigma_deg,
+                  "joint: the robot's rotation error, sigma per axis in degrees");
   cmd->add_flag("--keep-all-views", args->keep_all_views,
                 "use every view with a plane pose, even those that disagree with the others");
   cmd->add_flag("--no-cross-terms", args->no_cross_terms, "joint: leave out the camera-to-camera terms");

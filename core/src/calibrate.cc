@@ -240,6 +240,9 @@ bool CalibrationOptions::Check(std::string* why) const {
   };
   if (!(cauchy_scale_px >= 0) || !std::isfinite(cauchy_scale_px))
     return fail("cauchy_scale_px must be > 0 (or 0: from the data)");
+  if (!std::isfinite(robot_sigma_mm) || !std::isfinite(robot_sigma_deg) ||
+      (robot_sigma_mm < 0) != (robot_sigma_deg < 0) || (robot_sigma_mm == 0) != (robot_sigma_deg == 0))
+    return fail("robot_sigma_mm and robot_sigma_deg: both > 0, both 0 (exact robot) or both < 0 (estimated)");
   if (!(step_tolerance_mm > 0) || !(step_tolerance_deg > 0))
     return fail("step tolerances must be > 0");
   if (!(pnp_max_rms_px > 0) || !std::isfinite(pnp_max_rms_px)) return fail("pnp_max_rms_px must be > 0");
@@ -276,21 +279,53 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     const double first_scale = std::max(
         1.0, 3.0 * internal::ResidualSigmaPx(problem, init.X,
                                              internal::TargetPoses(dataset.cameras.size(), init.Z)));
+    std::optional<internal::RobotPrior> robot;
+    bool solved_once = false;
     const internal::Refinement refined = RobustSolve(
         &problem, options, first_scale,
         [&](double scale) {
           CalibrationOptions round = options;
           round.cauchy_scale_px = scale;
-          internal::Refinement r = internal::RefineJoint(problem, init, round);
-          for (size_t k = 0; k < r.X.size(); ++k)
-            if (r.X[k]) init.X[k] = r.X[k];  // warm start of the next round
-          init.Z = r.Z[0];
+          auto warm_start = [&](const internal::Refinement& r) {
+            for (size_t k = 0; k < r.X.size(); ++k)
+              if (r.X[k]) init.X[k] = r.X[k];
+            init.Z = r.Z[0];
+          };
+          // The robot's pose error: as given, or estimated from the last
+          // solution (the first round solves with exact poses first).
+          if (options.robot_sigma_mm > 0) {
+            robot = internal::RobotPrior{options.robot_sigma_mm / 1000.0, options.robot_sigma_deg * M_PI / 180.0,
+                                         internal::DetectionSigmaPx(problem)};
+          } else if (options.robot_sigma_mm < 0) {
+            if (!solved_once) {
+              warm_start(internal::RefineJoint(problem, init, round));
+              solved_once = true;
+            }
+            robot = internal::EstimateRobotPrior(problem, init.X,
+                                                 internal::TargetPoses(dataset.cameras.size(), init.Z));
+          }
+          internal::Refinement r = internal::RefineJoint(problem, init, round, robot);
+          warm_start(r);  // of the next round
           return r;
         },
         &result.warnings);
+    if (robot) {
+      result.solver.robot_sigma_mm = robot->sigma_m * 1000.0;
+      result.solver.robot_sigma_deg = robot->sigma_rad * 180.0 / M_PI;
+      std::ostringstream note;
+      note.precision(3);
+      note << "the robot's own pose error is modelled (one pose block per robot pose): σ " << robot->sigma_m * 1000.0
+           << " mm and " << robot->sigma_rad * 180.0 / M_PI << " deg per axis"
+           << (options.robot_sigma_mm > 0 ? " (given)" : " (estimated from the views)") << ", detection σ "
+           << robot->pixel_sigma_px << " px";
+      result.notes.push_back(note.str());
+    }
     est.X = refined.X;
     est.shared_Z = refined.Z[0];
+    const double robot_mm = result.solver.robot_sigma_mm, robot_deg = result.solver.robot_sigma_deg;
     result.solver = refined.summary;
+    result.solver.robot_sigma_mm = robot_mm;
+    result.solver.robot_sigma_deg = robot_deg;
     // Poses at which each camera has a used view, to count shared views per pair.
     std::vector<std::set<int>> poses_seen(dataset.cameras.size());
     for (const View& view : problem.views)

@@ -131,9 +131,31 @@ struct Refinement {
   std::map<std::pair<int, int>, Eigen::Isometry3d> pairs;  ///< (k, t) → T_camk_camt
   SolverSummary summary;
 };
-/// The paper's joint solve: shared Z, optional c_cross terms.
+/// The robot's own pose error, when the joint solve models it: one pose block
+/// per robot pose, tied to the reported pose by a prior of these σ.
+struct RobotPrior {
+  double sigma_m = 0;         ///< flange translation σ per axis, metres
+  double sigma_rad = 0;       ///< rotation σ per axis (about the flange, base frame)
+  double pixel_sigma_px = 0;  ///< detection noise σ per image axis, the pixel residuals' weight
+};
+
+/// Detection noise σ per image axis (pixels): the median over used views of
+/// what their PnP fit leaves (2n − 6 degrees of freedom for n points).
+double DetectionSigmaPx(const Problem& problem);
+
+/// The robot's pose error as the views show it through (X, Z): nullopt when
+/// the residuals through the chain are not clearly above the detection noise
+/// (the robot is then as exact as the images can tell); else σ of the flange's
+/// displacement across the viewing rays and of its rotation, from the medians
+/// of where PnP and the chain put the target.
+std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
+                                             const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                                             const TargetPoses& Z);
+
+/// The paper's joint solve: shared Z, optional c_cross terms; with `robot`,
+/// every robot pose is a block of the solve too, under its prior.
 Refinement RefineJoint(const Problem& problem, const Initialisation& init,
-                       const CalibrationOptions& options);
+                       const CalibrationOptions& options, const std::optional<RobotPrior>& robot = std::nullopt);
 /// One Z per camera, no cross terms (for --method per-camera).
 Refinement RefinePerCamera(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
                            const std::vector<Eigen::Isometry3d>& Z, const CalibrationOptions& options);

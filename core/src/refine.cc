@@ -120,7 +120,7 @@ SolverSummary Solve(ceres::Solver::Options solver, const CalibrationOptions& opt
 }  // namespace
 
 Refinement RefineJoint(const Problem& problem, const Initialisation& init,
-                       const CalibrationOptions& options) {
+                       const CalibrationOptions& options, const std::optional<RobotPrior>& robot) {
   const Dataset& dataset = *problem.dataset;
   ceres::Problem::Options problem_options;
   problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
@@ -138,6 +138,34 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
     SetPoseManifold(&ceres_problem, X[k]);
   }
 
+  // With a robot prior, each robot pose with a used view is a block, tied to
+  // the reported pose by its prior.
+  std::vector<double*> M(dataset.poses.size(), nullptr);
+  auto robot_pose = [&](int j) {
+    if (!M[j]) {
+      M[j] = blocks.Add(problem.M[j]);
+      ceres_problem.AddParameterBlock(M[j], 7);
+      SetPoseManifold(&ceres_problem, M[j]);
+      ceres_problem.AddResidualBlock(
+          RobotPosePrior::Create(dataset.poses[j].T_base_ee, dataset.setup == Setup::kEyeInHand, robot->sigma_rad,
+                                 robot->sigma_m, robot->pixel_sigma_px),
+          nullptr, M[j]);
+    }
+    return M[j];
+  };
+  // One view's reprojection cost through camera block `camera_block` (X_k or Y_kt).
+  auto add_view = [&](const View& view, int k, double* camera_block, std::shared_ptr<const ViewPoints> view_points) {
+    if (robot) {
+      ceres_problem.AddResidualBlock(
+          ViewReprojectionWithRobotError::Create(dataset.cameras[k], std::move(view_points), options.cauchy_scale_px),
+          nullptr, camera_block, robot_pose(view.pose), Z);
+    } else {
+      ceres_problem.AddResidualBlock(ViewReprojectionError::Create(dataset.cameras[k], problem.M[view.pose],
+                                                                   std::move(view_points), options.cauchy_scale_px),
+                                     nullptr, camera_block, Z);
+    }
+  };
+
   // c_rpj: every point of every used view (one block per view, the loss per point).
   // A view's points are shared by its c_rpj block and its c_cross blocks.
   std::vector<std::vector<int>> views_at_pose(dataset.poses.size());
@@ -147,10 +175,7 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
     if (!view.used || !X[view.camera]) continue;
     views_at_pose[view.pose].push_back(static_cast<int>(v));
     points[v] = Points(view);
-    ceres_problem.AddResidualBlock(
-        ViewReprojectionError::Create(dataset.cameras[view.camera], problem.M[view.pose], points[v],
-                                      options.cauchy_scale_px),
-        nullptr, X[view.camera], Z);
+    add_view(view, view.camera, X[view.camera], points[v]);
   }
 
   // c_cross: at each pose, for each ordered pair (k, t) of cameras that both
@@ -177,10 +202,7 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
             ceres_problem.AddParameterBlock(Y_kt, 7);
             SetPoseManifold(&ceres_problem, Y_kt);
           }
-          ceres_problem.AddResidualBlock(
-              ViewReprojectionError::Create(dataset.cameras[k], problem.M[view_k.pose], points[vk],
-                                            options.cauchy_scale_px),
-              nullptr, Y_kt, Z);
+          add_view(view_k, k, Y_kt, points[vk]);
         }
   }
 
@@ -190,11 +212,16 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
   // JᵀJ of the whole Jacobian instead (sparse normal Cholesky) ran on one
   // thread and copied the Jacobian, ~10x larger with the cross blocks than
   // the c_rpj part, at every step to append the LM diagonal.
+  // With robot pose blocks, those are eliminated instead (each residual block
+  // touches one), and the cameras, pairs and Z form the reduced system.
   ceres::Solver::Options solver = SolverOptions(options, ceres_problem);
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  const int camera_group = robot ? 1 : 0;
   for (double* block : X)
+    if (block) ordering->AddElementToGroup(block, camera_group);
+  for (const auto& [pair, block] : pair_blocks) ordering->AddElementToGroup(block, camera_group);
+  for (double* block : M)
     if (block) ordering->AddElementToGroup(block, 0);
-  for (const auto& [pair, block] : pair_blocks) ordering->AddElementToGroup(block, 0);
   ordering->AddElementToGroup(Z, 1);
   solver.linear_solver_type = ceres::DENSE_SCHUR;
   solver.linear_solver_ordering = ordering;

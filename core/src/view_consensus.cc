@@ -189,6 +189,52 @@ void ExplainInconsistentViews(Problem* problem, const std::vector<std::optional<
   }
 }
 
+double DetectionSigmaPx(const Problem& problem) {
+  std::vector<double> sigmas;
+  for (const View& view : problem.views) {
+    const double n = static_cast<double>(view.p_target.size());
+    if (view.used && n > 3) sigmas.push_back(view.pnp_rms_px * std::sqrt(n / (2.0 * n - 6.0)));
+  }
+  return std::max(Median(sigmas), 1e-3);
+}
+
+std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
+                                             const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                                             const TargetPoses& Z) {
+  const Dataset& dataset = *problem.dataset;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const TargetPoint& p : dataset.target->Points()) centre += p.p_target;
+  centre /= std::max<size_t>(1, dataset.target->Points().size());
+  std::vector<double> chain_rms, pnp_rms, across_m, angle_rad;
+  for (const View& view : problem.views) {
+    if (!view.used || !X[view.camera]) continue;
+    chain_rms.push_back(Rms(ViewErrors(problem, view, *X[view.camera], Z[view.camera])));
+    pnp_rms.push_back(view.pnp_rms_px);
+    const Eigen::Isometry3d chain = *X[view.camera] * problem.M[view.pose] * Z[view.camera];
+    // Across the viewing ray PnP locates the target well; along it, poorly.
+    const Eigen::Vector3d offset = chain * centre - *view.T_cam_target * centre;
+    const Eigen::Vector3d ray = (*view.T_cam_target * centre).normalized();
+    across_m.push_back((offset - offset.dot(ray) * ray).norm());
+    angle_rad.push_back(RotationDistance(chain.rotation(), view.T_cam_target->rotation()));
+  }
+  if (chain_rms.size() < 3) return std::nullopt;
+  // The chain has 6 fewer unknowns per view than PnP; clearly above it means
+  // the robot's poses, not the detections, set the residuals.
+  if (Median(chain_rms) < 1.3 * Median(pnp_rms)) return std::nullopt;
+  RobotPrior prior;
+  // Medians of the norm of a 2D and of a 3D isotropic Gaussian: 1.1774 σ and 1.5382 σ.
+  prior.sigma_rad = std::max(Median(angle_rad) / 1.5382, 1e-5 * kDeg);
+  // With few views per camera, X_k absorbs the flange's displacements across
+  // the rays, which then look smaller than they are. A robot's pose error
+  // comes from its joints, whose angle errors move the flange by about the
+  // rotation error times the reach: the larger of the two.
+  std::vector<double> reach_m;
+  for (const RobotPose& pose : dataset.poses) reach_m.push_back(pose.T_base_ee.translation().norm());
+  prior.sigma_m = std::max({Median(across_m) / 1.1774, prior.sigma_rad * Median(reach_m), 1e-5});
+  prior.pixel_sigma_px = DetectionSigmaPx(problem);
+  return prior;
+}
+
 std::vector<std::string> PoseRecordWarnings(const Problem& problem,
                                             const std::vector<std::optional<Eigen::Isometry3d>>& X,
                                             const TargetPoses& Z) {

@@ -77,7 +77,9 @@ void SaveResult(const CalibrationResult& result, const std::string& path) {
                     {"converged", result.solver.converged},
                     {"termination", result.solver.termination},
                     {"cauchy_scale_px", result.solver.cauchy_scale_px},
-                    {"rounds", result.solver.rounds}};
+                    {"rounds", result.solver.rounds},
+                    {"robot_sigma_mm", result.solver.robot_sigma_mm},
+                    {"robot_sigma_deg", result.solver.robot_sigma_deg}};
   nlohmann::ordered_json views = nlohmann::ordered_json::array();
   for (const ViewResult& v : result.views) {
     nlohmann::ordered_json entry;
@@ -150,6 +152,8 @@ CalibrationResult LoadResult(const std::string& path) {
   result.solver.termination = solver.Key("termination").String();
   if (solver.Has("cauchy_scale_px")) result.solver.cauchy_scale_px = solver.Key("cauchy_scale_px").Number();
   if (solver.Has("rounds")) result.solver.rounds = solver.Key("rounds").Int(0);
+  if (solver.Has("robot_sigma_mm")) result.solver.robot_sigma_mm = solver.Key("robot_sigma_mm").Number();
+  if (solver.Has("robot_sigma_deg")) result.solver.robot_sigma_deg = solver.Key("robot_sigma_deg").Number();
   if (root.Has("views")) {
     const JsonReader views = root.Key("views");
     const size_t n = views.ArraySize("an array of views");

@@ -242,3 +242,51 @@ TEST_CASE("The cross term is the reprojection term in Y = T_camk_camt · X_t", "
     }
   }
 }
+
+TEST_CASE("The cost with the robot pose as a block: derivatives and values", "[cost]") {
+  const Camera camera = TestCamera();
+  const Chain c;
+  std::vector<Eigen::Vector2d> offsets;
+  const ViewPoints view = Offsets(camera, c, &offsets);
+  for (double a : {0.0, 1.0}) {
+    std::unique_ptr<ceres::CostFunction> fast(
+        ViewReprojectionWithRobotError::Create(camera, std::make_shared<const ViewPoints>(view), a));
+    std::unique_ptr<ceres::CostFunction> reference(ViewReprojectionWithRobotError::CreateAutoDiff(camera, view, a));
+    const std::vector<PoseParams> blocks = {ToPoseParams(c.X), ToPoseParams(c.M), ToPoseParams(c.Z)};
+    REQUIRE(WorstDifference(*fast, *reference, blocks) < 1e-9);
+    REQUIRE(WorstJacobianError(*fast, blocks) < 1e-5);
+    // With the robot pose as given, the same residuals as the fixed-M cost.
+    std::unique_ptr<ceres::CostFunction> fixed(ViewReprojectionError::Create(camera, c.M, view, a));
+    PoseParams X = blocks[0], M = blocks[1], Z = blocks[2];
+    const double* with_m[] = {X.data(), M.data(), Z.data()};
+    const double* without_m[] = {X.data(), Z.data()};
+    double r_with[6], r_without[6];
+    REQUIRE(fast->Evaluate(with_m, r_with, nullptr));
+    REQUIRE(fixed->Evaluate(without_m, r_without, nullptr));
+    for (int i = 0; i < 6; ++i) REQUIRE(r_with[i] == Approx(r_without[i]).margin(1e-9));
+  }
+}
+
+TEST_CASE("The robot pose prior weighs rotation and displacement by their sigma", "[cost]") {
+  const Eigen::Isometry3d reported = MakeTransformFromRotationVector({0.4, 0.2, -0.3}, {0.5, 0.1, 1.0});
+  // The flange 2 mm off along x and turned 0.1° about z (base frame, about the flange).
+  Eigen::Isometry3d moved = reported;
+  moved.linear() = Eigen::AngleAxisd(0.1 * M_PI / 180.0, Eigen::Vector3d::UnitZ()) * reported.linear();
+  moved.translation().x() += 0.002;
+  for (bool inverse : {false, true}) {
+    std::unique_ptr<ceres::CostFunction> prior(
+        RobotPosePrior::Create(reported, inverse, 0.05 * M_PI / 180.0, 0.001, 0.2));
+    PoseParams M = ToPoseParams(inverse ? moved.inverse() : moved);
+    const double* params[] = {M.data()};
+    double r[6];
+    REQUIRE(prior->Evaluate(params, r, nullptr));
+    // 0.1° over σ 0.05° and 2 mm over σ 1 mm, times the pixel σ 0.2.
+    REQUIRE(r[0] == Approx(0.0).margin(1e-9));
+    REQUIRE(r[1] == Approx(0.0).margin(1e-9));
+    REQUIRE(r[2] == Approx(0.4).epsilon(1e-6));
+    REQUIRE(r[3] == Approx(0.4).epsilon(1e-9));
+    REQUIRE(r[4] == Approx(0.0).margin(1e-9));
+    REQUIRE(r[5] == Approx(0.0).margin(1e-9));
+    REQUIRE(WorstJacobianError(*prior, {M}) < 1e-5);
+  }
+}

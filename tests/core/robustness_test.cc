@@ -155,3 +155,27 @@ TEST_CASE("The loss scale follows the residuals the robot's pose error leaves", 
   fixed.cauchy_scale_px = 2.5;
   CHECK(Calibrate(noisy.dataset, fixed).solver.cauchy_scale_px == 2.5);
 }
+
+TEST_CASE("With robot pose error the joint solve models it and beats its exact-robot form and Park",
+          "[calibration][robust]") {
+  for (std::uint64_t seed : {1u, 2u, 3u}) {
+    const SyntheticScene scene = Scene(Setup::kEyeToHand, 30, seed, 1.0, 0.1);
+    const CalibrationResult modelled = Calibrate(scene.dataset, {});
+    CalibrationOptions exact;
+    exact.robot_sigma_mm = exact.robot_sigma_deg = 0.0;
+    CalibrationOptions park;
+    park.method = Method::kPark;
+    const double error = MeanPositionErrorMm(modelled, scene.truth);
+    const double exact_error = MeanPositionErrorMm(Calibrate(scene.dataset, exact), scene.truth);
+    const double park_error = MeanPositionErrorMm(Calibrate(scene.dataset, park), scene.truth);
+    INFO("seed " << seed << ": modelled " << error << " mm, exact robot " << exact_error << " mm, Park "
+                 << park_error << " mm; robot σ " << modelled.solver.robot_sigma_mm << " mm, "
+                 << modelled.solver.robot_sigma_deg << " deg");
+    CHECK(modelled.solver.robot_sigma_mm > 0);
+    CHECK(error < exact_error);
+    CHECK(error < park_error);
+  }
+  // An exact robot is left as the paper models it.
+  const CalibrationResult exact_robot = Calibrate(Scene(Setup::kEyeToHand, 30, 1, 0.0, 0.0).dataset, {});
+  CHECK(exact_robot.solver.robot_sigma_mm == 0);
+}

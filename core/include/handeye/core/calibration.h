@@ -45,6 +45,13 @@ struct CalibrationOptions {
   /// Views whose PnP pose explains the detected points worse than this RMS
   /// (pixels) are dropped before initialisation (corners that fit no plane pose).
   double pnp_max_rms_px = 3.0;
+  /// The robot's own pose error, σ per axis of the flange position (mm) and of
+  /// its rotation (deg). Negative (default): estimated from the views after a
+  /// first solve, and modelled (joint method: one pose block per robot pose
+  /// under this prior) only where it shows in the residuals; 0: the robot's
+  /// poses are taken as exact (the paper's model). Set both or neither.
+  double robot_sigma_mm = -1;
+  double robot_sigma_deg = -1;
   /// Views that do not fit the consensus are excluded and named: robot
   /// motions that no other view of the camera agrees with (before the solve),
   /// and views far outside the robust residual distribution after it.
@@ -114,6 +121,9 @@ struct SolverSummary {
   std::string termination;   ///< Ceres' termination type, or the method's status
   double cauchy_scale_px = 0;  ///< the robust loss scale used (0 for closed forms)
   int rounds = 0;  ///< solves run (each after excluding views off the previous one)
+  /// The robot pose error modelled (σ per axis), 0 when the poses were taken as exact.
+  double robot_sigma_mm = 0;
+  double robot_sigma_deg = 0;
 };
 
 /// Everything a calibration produced. A plain value; frames and units as in

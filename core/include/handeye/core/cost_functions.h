@@ -299,7 +299,102 @@ struct CrossChain {
   }
 };
 
+/// X · M · Z with the robot pose M a block too: blocks X, M, Z (the joint
+/// solve with robot pose corrections; X may be a pair's Y_kt).
+struct RobotChain {
+  template <typename T>
+  void operator()(const T* const* blocks, T* out) const {
+    T MZ[7];
+    Compose(blocks[1], blocks[2], MZ);
+    Compose(blocks[0], MZ, out);
+  }
+  /// The same pose and its derivative with respect to (X, M, Z).
+  void Jacobian(const double* const* blocks, double* out, Eigen::Matrix<double, 7, 21>* d_out) const {
+    double MZ[7];
+    Compose(blocks[1], blocks[2], MZ);
+    Compose(blocks[0], MZ, out);
+    Matrix7 d_MZ_d_M, d_MZ_d_Z, d_out_d_X, d_out_d_MZ;
+    ComposeJacobians(blocks[1], blocks[2], &d_MZ_d_M, &d_MZ_d_Z);
+    ComposeJacobians(blocks[0], MZ, &d_out_d_X, &d_out_d_MZ);
+    d_out->leftCols<7>() = d_out_d_X;
+    d_out->middleCols<7>(7).noalias() = d_out_d_MZ * d_MZ_d_M;
+    d_out->rightCols<7>().noalias() = d_out_d_MZ * d_MZ_d_Z;
+  }
+};
+
 }  // namespace cost_internal
+
+/// c_rpj of one view with the robot pose as a parameter block: X_k · M_j · Z.
+/// Parameters X_k (or a pair's Y_kt), M_j, Z. Residuals: 2 per point (pixels).
+struct ViewReprojectionWithRobotError {
+  static ceres::CostFunction* Create(const Camera& camera, std::shared_ptr<const ViewPoints> points,
+                                     double cauchy_scale_px) {
+    return new cost_internal::ChainedViewCost<3, cost_internal::RobotChain>(camera, std::move(points),
+                                                                             cauchy_scale_px, {});
+  }
+  /// The same cost through ceres::AutoDiffCostFunction (reference for tests).
+  static ceres::CostFunction* CreateAutoDiff(const Camera& camera, ViewPoints points, double cauchy_scale_px) {
+    const int residuals = 2 * static_cast<int>(points.p_target.size());
+    return new ceres::AutoDiffCostFunction<ViewReprojectionWithRobotError, ceres::DYNAMIC, 7, 7, 7>(
+        new ViewReprojectionWithRobotError{camera.params, std::move(points), cauchy_scale_px}, residuals);
+  }
+  template <typename T>
+  bool operator()(const T* X, const T* M, const T* Z, T* residuals) const {
+    const T* blocks[3] = {X, M, Z};
+    T pose[7];
+    cost_internal::RobotChain{}(blocks, pose);
+    return cost_internal::ProjectView(intrinsics, view, cauchy_scale_px, pose, residuals);
+  }
+  std::array<double, OpenCVCameraModel::kNumParams> intrinsics;
+  ViewPoints view;
+  double cauchy_scale_px;
+};
+
+/// The prior of a robot pose: how far the solved T_base_ee may be from the
+/// reported one. Parameter: M (`[qx qy qz qw tx ty tz]`), which is T_base_ee
+/// (eye_to_hand) or its inverse (eye_in_hand). Residuals (6): the rotation
+/// R_base_ee · R_reported⁻¹ as a rotation vector over `sigma_rad` (per axis,
+/// about the flange, in the base frame) and the flange's displacement over
+/// `sigma_m` (per axis), both times `pixel_sigma_px`, so that the prior
+/// and the pixel residuals are weighted by their noise alike.
+struct RobotPosePrior {
+  template <typename T>
+  bool operator()(const T* M, T* residuals) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(M);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(M + 4);
+    Eigen::Quaternion<T> q_base_ee = q;
+    Eigen::Matrix<T, 3, 1> t_base_ee = t;
+    if (inverse) {
+      q_base_ee = q.conjugate();
+      t_base_ee = -(q_base_ee * t);
+    }
+    const Eigen::Quaternion<T> q_reported(T(reported.w()), T(reported.x()), T(reported.y()), T(reported.z()));
+    Eigen::Quaternion<T> dq = q_base_ee * q_reported.conjugate();
+    if (dq.w() < T(0)) dq.coeffs() = -dq.coeffs();
+    // Rotation vector of dq (small angles: 2·xyz is exact to third order).
+    const T s = dq.vec().norm();
+    const T scale = s > T(1e-12) ? T(2.0) * atan2(s, dq.w()) / s : T(2.0);
+    for (int i = 0; i < 3; ++i) {
+      residuals[i] = weight_rotation * scale * dq.vec()[i];
+      residuals[3 + i] = weight_translation * (t_base_ee[i] - T(t_reported[i]));
+    }
+    return true;
+  }
+  static ceres::CostFunction* Create(const Eigen::Isometry3d& T_base_ee_reported, bool inverse, double sigma_rad,
+                                     double sigma_m, double pixel_sigma_px) {
+    auto* prior = new RobotPosePrior;
+    prior->reported = Eigen::Quaterniond(T_base_ee_reported.rotation());
+    prior->t_reported = T_base_ee_reported.translation();
+    prior->inverse = inverse;
+    prior->weight_rotation = pixel_sigma_px / sigma_rad;
+    prior->weight_translation = pixel_sigma_px / sigma_m;
+    return new ceres::AutoDiffCostFunction<RobotPosePrior, 6, 7>(prior);
+  }
+  Eigen::Quaterniond reported;
+  Eigen::Vector3d t_reported;
+  bool inverse = false;
+  double weight_rotation = 1, weight_translation = 1;
+};
 
 /// c_rpj of one view: every point against X_k · M_j · Z · p_target.
 /// Parameters: X_k and Z as `[qx qy qz qw tx ty tz]`. Residuals: 2 per point (pixels).
