@@ -9,6 +9,7 @@
 #include <memory>
 #include <thread>
 
+#include "cli_numbers.h"
 #include "commands.h"
 #include "handeye/core/calibration.h"
 #include "handeye/core/error.h"
@@ -119,10 +120,11 @@ void RegisterCalibrate(CLI::App& app) {
   cmd->add_option("--method", args->method,
                   "joint (default, the paper's method), per-camera, tsai, park, horaud, andreff, "
                   "daniilidis, shah, li, visp");
-  cmd->add_option("--cauchy-scale", args->cauchy_scale_px, "Cauchy loss scale in pixels (default 1)");
+  cmd->add_option("--cauchy-scale", args->cauchy_scale_px, "Cauchy loss scale in pixels (default 1)")
+      ->check(PositiveNumber("a positive scale in pixels"));
   cmd->add_flag("--no-cross-terms", args->no_cross_terms, "joint: leave out the camera-to-camera terms");
   cmd->add_option("--threads", args->threads, "threads for detection and the solver (0 = all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(ThreadCount());
   cmd->add_flag("--reorthonormalise", args->reorthonormalise,
                 "replace slightly non-orthonormal robot rotations by the nearest rotation");
   cmd->add_option("--report", args->report,
