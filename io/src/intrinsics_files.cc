@@ -7,7 +7,7 @@
 
 #include "handeye/core/error.h"
 #include "handeye/io/json_util.h"
-#include "handeye/io/yaml_subset.h"
+#include "handeye/io/yaml_file.h"
 #include "text_file.h"
 
 namespace handeye {
@@ -145,7 +145,7 @@ std::optional<std::array<int, 2>> RosImageSize(const JsonReader& width, const Js
 }
 
 FileIntrinsics ReadRos(const std::string& path) {
-  const nlohmann::json doc = ReadYamlSubsetFile(path);
+  const nlohmann::json doc = ReadYamlFile(path);
   const JsonReader root(&doc, path);
   root.ExpectObject("a ROS camera_info (calibration file or message) mapping");
   FileIntrinsics out;
@@ -194,7 +194,7 @@ FileIntrinsics ReadRos(const std::string& path) {
 // --- Kalibr camchain -------------------------------------------------------------------
 
 FileIntrinsics ReadKalibr(const std::string& path, const std::string& camera) {
-  const nlohmann::json doc = ReadYamlSubsetFile(path);
+  const nlohmann::json doc = ReadYamlFile(path);
   const JsonReader root(&doc, path);
   root.ExpectObject("a Kalibr camchain {cam0: {...}, cam1: {...}}");
   if (!root.Has(camera)) {
