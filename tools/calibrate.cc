@@ -9,6 +9,7 @@
 #include <memory>
 #include <thread>
 
+#include "cli_numbers.h"
 #include "commands.h"
 #include "handeye/core/calibration.h"
 #include "handeye/core/error.h"
@@ -132,17 +133,20 @@ void RegisterCalibrate(CLI::App& app) {
                   "joint (default, the paper's method), per-camera, tsai, park, horaud, andreff, "
                   "daniilidis, shah, li, visp");
   cmd->add_option("--cauchy-scale", args->cauchy_scale_px,
-                  "Cauchy loss scale in pixels (default: 3 sigma of the residuals, at least 1)");
+                  "Cauchy loss scale in pixels (default: 3 sigma of the residuals, at least 1)")
+      ->check(NonNegativeNumber("0 (from the residuals) or a positive scale in pixels"));
   cmd->add_option("--robot-sigma-mm", args->robot_sigma_mm,
                   "joint: the robot's pose error, sigma per axis of the flange position in mm (with "
-                  "--robot-sigma-deg; 0 and 0: poses exact; default: estimated from the views)");
+                  "--robot-sigma-deg; 0 and 0: poses exact; default: estimated from the views)")
+      ->check(NonNegativeNumber("a non-negative sigma in mm"));
   cmd->add_option("--robot-sigma-deg", args->robot_sigma_deg,
-                  "joint: the robot's rotation error, sigma per axis in degrees");
+                  "joint: the robot's rotation error, sigma per axis in degrees")
+      ->check(NonNegativeNumber("a non-negative sigma in degrees"));
   cmd->add_flag("--keep-all-views", args->keep_all_views,
                 "use every view with a plane pose, even those that disagree with the others");
   cmd->add_flag("--no-cross-terms", args->no_cross_terms, "joint: leave out the camera-to-camera terms");
   cmd->add_option("--threads", args->threads, "threads for detection and the solver (0 = all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(ThreadCount());
   cmd->add_flag("--reorthonormalise", args->reorthonormalise,
                 "replace slightly non-orthonormal robot rotations by the nearest rotation");
   cmd->add_option("--report", args->report,

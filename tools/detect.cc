@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 
+#include "cli_numbers.h"
 #include "commands.h"
 #include "handeye/core/error.h"
 #include "handeye/io/dataset_json.h"
@@ -69,7 +70,7 @@ void RegisterDetect(CLI::App& app) {
                   "observations file to write (handeye-observations/1)")
       ->required();
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(ThreadCount());
   cmd->add_flag("--reorthonormalise", args->reorthonormalise,
                 "replace slightly non-orthonormal robot rotations by the nearest rotation");
   cmd->callback([args]() { RunDetect(*args); });

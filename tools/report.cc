@@ -8,6 +8,7 @@
 #include <iostream>
 #include <memory>
 
+#include "cli_numbers.h"
 #include "commands.h"
 #include "handeye/core/error.h"
 #include "handeye/io/dataset_json.h"
@@ -96,7 +97,7 @@ void RegisterReport(CLI::App& app) {
       "--observations", args->observations,
       "handeye-observations/1 with the detected points (instead of detecting in DATASET's images)");
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(ThreadCount());
   cmd->add_flag("--no-closed-form", args->no_closed_form,
                 "skip the comparison with a per-camera closed-form solution");
   cmd->add_flag("--reorthonormalise", args->reorthonormalise,

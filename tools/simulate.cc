@@ -9,6 +9,7 @@
 #include <memory>
 #include <sstream>
 
+#include "cli_numbers.h"
 #include "commands.h"
 #include "handeye/core/error.h"
 #include "handeye/core/synthetic.h"
@@ -140,26 +141,34 @@ void RegisterSimulate(CLI::App& app) {
   cmd->add_option("--cell", args->cell, "cell size: small (~1.5 m), medium (~2.5 m), large (~4 m); default medium");
   cmd->add_option("--preset", args->preset,
                   "metric-medium: METRIC's synthetic medium cell (4 cameras, fx 1371.02, 4x3 board of 50 mm)");
-  cmd->add_option("--cameras", args->cameras, "number of cameras (1..64)");
-  cmd->add_option("--poses", args->poses, "number of robot poses");
+  cmd->add_option("--cameras", args->cameras, "number of cameras (1..64)")
+      ->check(IntegerIn(1, 64, "between 1 and 64 cameras"));
+  cmd->add_option("--poses", args->poses, "number of robot poses")
+      ->check(IntegerIn(1, 100000, "between 1 and 100000 poses"));
   cmd->add_option("--target", args->target.type,
                   "target type: checkerboard (default), charuco or aprilgrid; each has a default sheet "
                   "(metric-medium: METRIC's 4x3 checkerboard of 50 mm)");
   AddTargetOptions(cmd, &args->target);
   cmd->add_option("--setup", args->setup, "eye_to_hand (default) or eye_in_hand");
-  cmd->add_option("--seed", args->seed, "random seed; the same seed gives the same dataset");
-  cmd->add_option("--pose-noise-mm", args->pose_noise_mm, "robot translation noise sigma per axis (mm) on the reported poses");
-  cmd->add_option("--pose-noise-deg", args->pose_noise_deg, "robot rotation noise sigma (deg) on the reported poses");
+  cmd->add_option("--seed", args->seed, "random seed; the same seed gives the same dataset")
+      ->check(UnsignedInteger("a whole number from 0 to 2^64 - 1"));
+  cmd->add_option("--pose-noise-mm", args->pose_noise_mm, "robot translation noise sigma per axis (mm) on the reported poses")
+      ->check(NonNegativeNumber("a non-negative robot translation noise sigma in mm"));
+  cmd->add_option("--pose-noise-deg", args->pose_noise_deg, "robot rotation noise sigma (deg) on the reported poses")
+      ->check(NonNegativeNumber("a non-negative robot rotation noise sigma in degrees"));
   cmd->add_option("--swap-poses", args->swap_poses,
-                  "exchange the robot records of K pairs of poses (a logging fault to test against)");
+                  "exchange the robot records of K pairs of poses (a logging fault to test against)")
+      ->check(NonNegativeNumber("a non-negative number of pose pairs"));
   cmd->add_flag("--see-through", args->see_through,
                 "a glass target: cameras behind it see its pattern mirrored (a printed one shows a plain back)");
   cmd->add_flag("--visible-only", args->visible_only,
                 "render only the views that show the whole target from the front (default: every camera at every pose)");
   cmd->add_flag("--no-distortion", args->no_distortion, "cameras without lens distortion");
-  cmd->add_option("--blur", args->blur_px, "mean optical blur sigma (px); each camera gets 2/3..4/3 of it (default 0.75)");
-  cmd->add_option("--noise", args->noise, "sensor noise sigma in grey levels (default 2)");
-  cmd->add_option("--threads", args->threads, "rendering threads (0 = all cores)");
+  cmd->add_option("--blur", args->blur_px, "mean optical blur sigma (px); each camera gets 2/3..4/3 of it (default 0.75)")
+      ->check(NonNegativeNumber("a non-negative blur sigma in pixels"));
+  cmd->add_option("--noise", args->noise, "sensor noise sigma in grey levels (default 2)")
+      ->check(NonNegativeNumber("a non-negative noise sigma in grey levels"));
+  cmd->add_option("--threads", args->threads, "rendering threads (0 = all cores)")->check(ThreadCount());
   cmd->add_option("--image-size", args->image_size, "image size WIDTHxHEIGHT (default 1920x1080)");
   cmd->callback([args]() { RunSimulate(*args); });
 }

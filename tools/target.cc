@@ -15,6 +15,7 @@
 #include <sstream>
 #include <vector>
 
+#include "cli_numbers.h"
 #include "commands.h"
 #include "handeye/core/error.h"
 #include "handeye/io/atomic_file.h"
@@ -145,7 +146,8 @@ void RegisterTarget(CLI::App& app) {
   cmd->add_option("-o,--output", args->output,
                   "PNG to write; FILE.json beside it gets the dataset `target` object")
       ->required();
-  cmd->add_option("--dpi", args->dpi, "dots per inch (default 300)");
+  cmd->add_option("--dpi", args->dpi, "dots per inch (default 300)")
+      ->check(NumberIn(10, 2400, false, "a resolution between 10 and 2400 dots per inch"));
   AddTargetOptions(cmd, &args->target);
   cmd->callback([args]() { RunTarget(*args); });
 }

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "cli_numbers.h"
 #include "handeye/core/error.h"
 #include "handeye/detectors/registry.h"
 #include "handeye/io/json_util.h"
@@ -70,21 +71,26 @@ void AddTargetOptions(CLI::App* cmd, TargetOptions* o) {
       cmd->add_option("--board", o->board, "checkerboard inner corners COLSxROWS (default 7x4)");
   o->added["--square"] =
       cmd->add_option("--square", o->square_m,
-                      "checkerboard or charuco square size in metres (default 0.04 / 0.055)");
+                      "checkerboard or charuco square size in metres (default 0.04 / 0.055)")
+          ->check(PositiveNumber("a positive size in metres"));
   o->added["--squares"] =
       cmd->add_option("--squares", o->squares, "charuco squares SXxSY (default 7x5)");
   o->added["--marker"] =
-      cmd->add_option("--marker", o->marker_m, "charuco marker size in metres (default 0.04)");
+      cmd->add_option("--marker", o->marker_m, "charuco marker size in metres (default 0.04)")
+          ->check(PositiveNumber("a positive size in metres"));
   o->added["--dictionary"] = cmd->add_option("--dictionary", o->dictionary,
                                              "charuco OpenCV dictionary (default DICT_5X5_100)");
   o->added["--tags"] = cmd->add_option("--tags", o->tags, "aprilgrid tags COLSxROWS (default 6x4)");
   o->added["--tag-size"] =
       cmd->add_option("--tag-size", o->tag_size_m,
-                      "aprilgrid tag size in metres, black square edge (default 0.05)");
+                      "aprilgrid tag size in metres, black square edge (default 0.05)")
+          ->check(PositiveNumber("a positive size in metres"));
   o->added["--tag-spacing"] = cmd->add_option(
-      "--tag-spacing", o->tag_spacing, "aprilgrid gap between tags / tag size (default 0.25)");
+      "--tag-spacing", o->tag_spacing, "aprilgrid gap between tags / tag size (default 0.25)")
+          ->check(PositiveNumber("a positive ratio of gap to tag size"));
   o->added["--border-bits"] = cmd->add_option(
-      "--border-bits", o->border_bits, "aprilgrid black border width in bits, 1 or 2 (default 2)");
+      "--border-bits", o->border_bits, "aprilgrid black border width in bits, 1 or 2 (default 2)")
+          ->check(IntegerIn(1, 2, "1 or 2 border bits"));
 }
 
 std::shared_ptr<const Target> MakeTargetFromOptions(const TargetOptions& o, bool metric) {

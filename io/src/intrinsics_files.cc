@@ -7,7 +7,7 @@
 
 #include "handeye/core/error.h"
 #include "handeye/io/json_util.h"
-#include "handeye/io/yaml_subset.h"
+#include "handeye/io/yaml_file.h"
 #include "text_file.h"
 
 namespace handeye {
@@ -44,10 +44,26 @@ void CheckCoefficientCount(std::size_t n, const std::string& file, const std::st
 
 // --- OpenCV FileStorage ------------------------------------------------------------
 
+// The largest opencv-matrix an intrinsics file needs: 3x3, or 14 coefficients.
+constexpr int kMaxMatrixSide = 64;
+
 cv::Mat ReadMatrixNode(const cv::FileStorage& fs, const std::string& key, const std::string& path) {
   const cv::FileNode node = fs[key];
   if (node.empty() || node.isNone())
     throw InputError(path, "/" + key, "missing key; expected an opencv-matrix");
+  // cv::read allocates rows x cols from the header before it reads `data`
+  // (a fuzzed 'cols: 2147483647' asked for 16 GB), so the header is checked
+  // against the data first.
+  const std::string expected = "expected an opencv-matrix (rows, cols, dt, data) of at most " +
+                               std::to_string(kMaxMatrixSide) + " x " + std::to_string(kMaxMatrixSide) +
+                               " single-channel values, with rows x cols of them in data";
+  if (!node.isMap() || !node["rows"].isInt() || !node["cols"].isInt() || !node["data"].isSeq())
+    throw InputError(path, "/" + key, expected);
+  const int rows = static_cast<int>(node["rows"]), cols = static_cast<int>(node["cols"]);
+  const std::string dt = node["dt"].isString() ? static_cast<std::string>(node["dt"]) : "";
+  if (rows < 1 || cols < 1 || rows > kMaxMatrixSide || cols > kMaxMatrixSide || dt.size() != 1 ||
+      node["data"].size() != static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols))
+    throw InputError(path, "/" + key, expected);
   cv::Mat m;
   try {
     node >> m;
@@ -145,7 +161,7 @@ std::optional<std::array<int, 2>> RosImageSize(const JsonReader& width, const Js
 }
 
 FileIntrinsics ReadRos(const std::string& path) {
-  const nlohmann::json doc = ReadYamlSubsetFile(path);
+  const nlohmann::json doc = ReadYamlFile(path);
   const JsonReader root(&doc, path);
   root.ExpectObject("a ROS camera_info (calibration file or message) mapping");
   FileIntrinsics out;
@@ -194,7 +210,7 @@ FileIntrinsics ReadRos(const std::string& path) {
 // --- Kalibr camchain -------------------------------------------------------------------
 
 FileIntrinsics ReadKalibr(const std::string& path, const std::string& camera) {
-  const nlohmann::json doc = ReadYamlSubsetFile(path);
+  const nlohmann::json doc = ReadYamlFile(path);
   const JsonReader root(&doc, path);
   root.ExpectObject("a Kalibr camchain {cam0: {...}, cam1: {...}}");
   if (!root.Has(camera)) {

@@ -11,9 +11,12 @@
 #include <set>
 #include <sstream>
 
+#include <yaml-cpp/yaml.h>
+
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
 #include "handeye/detectors/registry.h"
+#include "text_file.h"
 
 namespace handeye {
 namespace {
@@ -49,52 +52,47 @@ std::optional<double> ParseNumber(const std::string& text) {
   return x;
 }
 
-/// The flat `key: value` YAML that the original tool reads with
-/// cv::FileStorage: one key per line, `#` comments, no nesting. Written here
-/// rather than with a YAML library because that is all these files use and
-/// no YAML dependency is needed for it.
+/// A METRIC YAML file: flat `key: value` lines (the original tool reads
+/// them with cv::FileStorage, without a `%YAML` header), parsed with
+/// yaml-cpp. Values are read as the original tool's numbers and strings;
+/// nested values are refused. Messages name the file, the key and its line.
 class FlatYaml {
  public:
   explicit FlatYaml(const fs::path& path) : path_(path.string()) {
     std::error_code ec;
     if (!fs::is_regular_file(path, ec))
       throw InputError(path_, "", "file does not exist (METRIC folder layout, SPEC §8)");
-    std::ifstream in(path);
-    if (!in) throw InputError(path_, "", "cannot read the file");
-    std::string line;
-    for (int number = 1; std::getline(in, line); ++number) {
-      const std::string text = Trim(line);
-      // `%YAML:1.0` and `---` are what cv::FileStorage writes; harmless here.
-      if (text.empty() || text[0] == '#' || text[0] == '%' || text == "---") continue;
-      if (line[0] == ' ' || line[0] == '\t')
-        throw InputError(path_, "",
-                         "line " + std::to_string(number) +
-                             ": nested YAML is not supported; expected flat "
-                             "'key: value' lines");
-      const auto colon = text.find(':');
-      const std::string key = colon == std::string::npos ? "" : Trim(text.substr(0, colon));
-      const bool key_ok = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
-        return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
-      });
-      if (!key_ok)
-        throw InputError(
-            path_, "",
-            "line " + std::to_string(number) + ": expected 'key: value', got '" + text + "'");
-      std::string value = text.substr(colon + 1);
-      // A '#' after whitespace starts a comment (YAML's rule).
-      for (std::size_t i = 1; i < value.size(); ++i)
-        if (value[i] == '#' && (value[i - 1] == ' ' || value[i - 1] == '\t')) {
-          value.resize(i);
-          break;
-        }
-      value = Trim(value);
-      if (value.size() >= 2 && (value.front() == '"' || value.front() == '\'') &&
-          value.back() == value.front())
-        value = value.substr(1, value.size() - 2);
-      const auto [it, inserted] = values_.emplace(key, Entry{value, number});
+    const std::string text = internal::ReadTextFile(path_, "a YAML file");
+    YAML::Node root;
+    try {
+      root = YAML::Load(text);
+    } catch (const YAML::ParserException& e) {
+      throw InputError(path_, "", "line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+    } catch (const YAML::Exception& e) {
+      throw InputError(path_, "", std::string("not readable as YAML: ") + e.what());
+    }
+    if (root.IsNull()) return;  // no keys: each one asked for is missing
+    if (!root.IsMap()) {
+      // The line where the document starts, as the user wrote it.
+      std::istringstream lines(text);
+      std::string first;
+      for (int i = 0; i <= root.Mark().line && std::getline(lines, first);) ++i;
+      throw InputError(path_, "",
+                       "line " + std::to_string(root.Mark().line + 1) + ": expected 'key: value' lines, got '" +
+                           Trim(first) + "'");
+    }
+    for (const auto& member : root) {
+      const int line = member.first.Mark().line + 1;
+      if (!member.first.IsScalar() || !(member.second.IsScalar() || member.second.IsNull()))
+        throw InputError(path_, member.first.IsScalar() ? "/" + member.first.Scalar() : "",
+                         "line " + std::to_string(line) +
+                             ": nested YAML is not supported; expected flat 'key: value' lines");
+      const std::string& key = member.first.Scalar();
+      const std::string value = member.second.IsNull() ? "" : member.second.Scalar();
+      const auto [it, inserted] = values_.emplace(key, Entry{value, line});
       if (!inserted)
         throw InputError(path_, "/" + key,
-                         "duplicate key on line " + std::to_string(number) + " (also on line " +
+                         "duplicate key on line " + std::to_string(line) + " (also on line " +
                              std::to_string(it->second.line) + ")");
     }
   }

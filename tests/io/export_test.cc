@@ -14,7 +14,7 @@
 
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
-#include "handeye/io/yaml_subset.h"
+#include "handeye/io/yaml_file.h"
 
 namespace handeye {
 namespace {
@@ -128,7 +128,7 @@ ParsedTransforms ParseUrdf(const std::string& text) {
 }
 
 ParsedTransforms ParseTfStatic(const std::string& text) {
-  const nlohmann::json doc = ParseYamlSubset(text, "tf_static.yaml");
+  const nlohmann::json doc = ParseYaml(text, "tf_static.yaml");
   ParsedTransforms out;
   for (const auto& tf : doc.at("transforms")) {
     const auto& t = tf.at("transform").at("translation");

@@ -5,6 +5,7 @@
 #include "handeye/io/intrinsics_files.h"
 
 #include <catch2/catch.hpp>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
@@ -207,6 +208,27 @@ TEST_CASE("OpenCV FileStorage intrinsics: YAML, XML and YAML without the header"
   RequireFileError(dir + "/three.yml", IntrinsicsFileFormat::kOpenCv, "", "/distortion_coefficients",
                    "expected 0, 4, 5, 8, 12 or 14 distortion coefficients");
   RequireFileError(dir + "/missing.yml", IntrinsicsFileFormat::kOpenCv, "", "", "file does not exist");
+}
+
+TEST_CASE("OpenCV FileStorage: a matrix header that lies is refused before OpenCV allocates it",
+          "[io][intrinsics][bad]") {
+  const std::string dir = test::TempDir("intrinsics_opencv_huge");
+  const std::string K = "camera_matrix: !!opencv-matrix\n  rows: 3\n  cols: 3\n  dt: d\n"
+                        "  data: [800, 0, 320, 0, 800, 240, 0, 0, 1]\n";
+  // fuzz/run found this: cv::read allocated rows x cols (16 GB) from the
+  // header before reading the 4 values of data.
+  for (const char* cols : {"2147483647", "65", "5"}) {
+    test::WriteText(dir + "/huge.yml", K + "distortion_coefficients: !!opencv-matrix\n  rows: 1\n  cols: " +
+                                           cols + "\n  dt: d\n  data: [0.1, -0.01, 0, 0]\n");
+    INFO(cols);
+    RequireFileError(dir + "/huge.yml", IntrinsicsFileFormat::kOpenCv, "", "/distortion_coefficients",
+                     "expected an opencv-matrix (rows, cols, dt, data) of at most 64 x 64 single-channel values, "
+                     "with rows x cols of them in data");
+  }
+  // The input fuzz/run saved, as it was.
+  const std::string finding =
+      (std::filesystem::path(__FILE__).parent_path() / "fuzz_findings/intrinsics_opencv_huge_cols.yaml").string();
+  RequireFileError(finding, IntrinsicsFileFormat::kOpenCv, "", "/distortion_coefficients", "of at most 64 x 64");
 }
 
 TEST_CASE("ROS camera_info: calibration file, ROS 2 and ROS 1 messages", "[io][intrinsics]") {

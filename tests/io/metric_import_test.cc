@@ -140,6 +140,21 @@ TEST_CASE("METRIC folder: copies of a pose that disagree stay separate poses", "
   CHECK_THAT(imported.warnings[0], Contains("each camera keeps its own record"));
 }
 
+TEST_CASE("METRIC YAML as cv::FileStorage writes it, with comments and quotes", "[io][metric]") {
+  const std::string dir = test::TempDir("metric_filestorage");
+  test::WriteMetricFolder(dir, 1, false);
+  test::WriteText(dir + "/CalibrationInfo.yaml",
+                  "%YAML:1.0\n---\n# Number of cameras\nnumber_of_cameras: 2\n"
+                  "camera_folder_prefix: \"camera\"\npattern_type: 'checkerboard'  # the only one\n"
+                  "number_of_rows: 4\nnumber_of_columns: 3\nsize: 5.0e-02\nresize_factor: 1\n"
+                  "visual_error: 1\ncalibration_setup: 1\n");
+  const MetricImport imported = ImportMetricFolder(dir);
+  CHECK(imported.dataset.cameras.size() == 2);
+  const auto* board = dynamic_cast<const CheckerboardTarget*>(imported.dataset.target.get());
+  REQUIRE(board);
+  CHECK(board->square_size_m() == 0.05);
+}
+
 TEST_CASE("METRIC folder without GT, eye-in-hand", "[io][metric]") {
   const std::string dir = test::TempDir("metric_import_eih");
   test::WriteMetricFolder(dir, 0, false);
@@ -226,6 +241,19 @@ TEST_CASE("METRIC folder: bad input names the file and what was expected", "[io]
     test::WriteMetricFolder(dir, 1, false);
     test::WriteText(dir + "/camera2/intrinsic_pars_file.yaml", "fx 800\n");
     RequireImportError(dir, "camera2/intrinsic_pars_file.yaml", "line 1: expected 'key: value'");
+  }
+  SECTION("a nested value, a duplicate key and broken YAML in CalibrationInfo.yaml") {
+    test::WriteMetricFolder(dir, 1, false);
+    const std::string keys =
+        "number_of_cameras: 2\ncamera_folder_prefix: camera\npattern_type: checkerboard\n"
+        "number_of_rows: 4\nnumber_of_columns: 3\ncalibration_setup: 1\n";
+    test::WriteText(dir + "/CalibrationInfo.yaml", keys + "size:\n  metres: 0.05\n");
+    RequireImportError(dir, "CalibrationInfo.yaml", "line 7: nested YAML is not supported", "/size");
+    test::WriteText(dir + "/CalibrationInfo.yaml", keys + "size: 0.05\nnumber_of_rows: 5\n");
+    RequireImportError(dir, "CalibrationInfo.yaml", "duplicate key on line 8 (also on line 4)",
+                       "/number_of_rows");
+    test::WriteText(dir + "/CalibrationInfo.yaml", keys + "size: [0.05\n");
+    RequireImportError(dir, "CalibrationInfo.yaml", "line 8: end of sequence flow not found");
   }
   SECTION("has_dist_coeff without the coefficients") {
     test::WriteMetricFolder(dir, 1, false);

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// The libdeflate PNG reader against libpng (through cv::imread): PNG files
-// written here byte by byte with every row filter, and files OpenCV writes.
+// The PNG reader (libspng) against libpng (through cv::imread): PNG files
+// written here byte by byte with every row filter, files OpenCV writes in
+// every depth and colour type, damaged files and headers that lie.
 #include "../../io/src/png_reader.h"
 
 #include <catch2/catch.hpp>
 #include <cstdint>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -21,6 +23,7 @@
 namespace handeye {
 namespace {
 
+using Catch::Matchers::Contains;
 using Bytes = std::vector<std::uint8_t>;
 
 void Append32(Bytes* out, std::uint32_t v) {
@@ -76,12 +79,14 @@ int PaethPredictor(int left, int up, int upper_left) {
 
 /// PNG bytes of `pixels` (rows of width × channels bytes, RGB(A) order),
 /// row y filtered with type y % 5, so every filter occurs.
-Bytes EncodePng(int width, int height, int channels, const Bytes& pixels, int interlace = 0) {
+Bytes EncodePng(int width, int height, int channels, const Bytes& pixels, int interlace = 0,
+               std::uint32_t header_width = 0, std::uint32_t header_height = 0) {
   const int colour = channels == 1 ? 0 : channels == 3 ? 2 : 6;
   Bytes png = {137, 80, 78, 71, 13, 10, 26, 10};
   Bytes header;
-  Append32(&header, static_cast<std::uint32_t>(width));
-  Append32(&header, static_cast<std::uint32_t>(height));
+  // A header may claim another size than the pixels that follow.
+  Append32(&header, header_width ? header_width : static_cast<std::uint32_t>(width));
+  Append32(&header, header_height ? header_height : static_cast<std::uint32_t>(height));
   header.insert(header.end(), {8, static_cast<std::uint8_t>(colour), 0, 0,
                                static_cast<std::uint8_t>(interlace)});
   AppendChunk(&png, "IHDR", header);
@@ -135,13 +140,38 @@ bool SameImage(const cv::Mat& a, const cv::Mat& b) {
   return a.size() == b.size() && a.type() == b.type() && cv::norm(a, b, cv::NORM_INF) == 0;
 }
 
+/// What LoadGrayImage must give: cv::imread, then grey and 8 bits.
+cv::Mat ImreadGrey(const std::string& path) {
+  cv::Mat image = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+  REQUIRE(!image.empty());
+  if (image.channels() == 3) cv::cvtColor(image, image, cv::COLOR_BGR2GRAY);
+  if (image.channels() == 4) cv::cvtColor(image, image, cv::COLOR_BGRA2GRAY);
+  if (image.depth() == CV_16U) image.convertTo(image, CV_8U, 1.0 / 257.0);
+  return image;
+}
+
+Bytes ReadBytes(const std::string& path) {
+  const std::string text = test::ReadText(path);
+  return Bytes(text.begin(), text.end());
+}
+
+cv::Mat Decode(const Bytes& png, const std::string& name = "mem.png") {
+  return internal::DecodePngGray(png.data(), png.size(), name, [](std::uint32_t, std::uint32_t) {});
+}
+
+/// The message of the InputError that loading `path` throws ("" if none).
+std::string LoadError(const std::string& path, const Camera& camera) {
+  try {
+    LoadGrayImage(path, camera);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 }  // namespace
 
 TEST_CASE("PNG reader decodes every row filter as libpng does", "[png]") {
-  if (!internal::HaveFastPngReader()) {
-    WARN("built without libdeflate: every PNG goes to OpenCV, nothing to compare");
-    return;
-  }
   const std::string dir = test::TempDir("png_reader_filters");
   for (const int channels : {1, 3, 4}) {
     // Odd sizes; more than 64 KiB of data for the grey one, so the stored
@@ -151,78 +181,84 @@ TEST_CASE("PNG reader decodes every row filter as libpng does", "[png]") {
     WriteBytes(path, EncodePng(width, height, channels,
                                RandomPixels(static_cast<std::size_t>(width) * height * channels,
                                             static_cast<std::uint32_t>(channels))));
-    const cv::Mat expected = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
-    REQUIRE(!expected.empty());
-    const std::optional<cv::Mat> decoded = internal::ReadPng8(path);
     INFO(channels << " channels");
-    REQUIRE(decoded);
-    CHECK(SameImage(*decoded, expected));
+    CHECK(SameImage(Decode(ReadBytes(path)), ImreadGrey(path)));
   }
 }
 
-TEST_CASE("PNG reader decodes OpenCV's own compressed PNGs", "[png]") {
-  if (!internal::HaveFastPngReader()) {
-    WARN("built without libdeflate: every PNG goes to OpenCV, nothing to compare");
-    return;
-  }
+TEST_CASE("PNG reader decodes OpenCV's PNGs of every depth and colour type", "[png]") {
   const std::string dir = test::TempDir("png_reader_opencv");
-  cv::Mat grey(480, 640, CV_8UC1), colour(120, 160, CV_8UC3);
+  cv::Mat grey(480, 640, CV_8UC1), colour(120, 160, CV_8UC3), alpha(50, 70, CV_8UC4);
+  cv::Mat deep_grey(23, 37, CV_16UC1), deep_colour(23, 37, CV_16UC3);
   cv::randu(grey, 0, 40);  // low entropy: real deflate codes, not stored blocks
   grey(cv::Rect(100, 100, 200, 150)).setTo(200);
   cv::randu(colour, 0, 255);
-  for (const auto& [name, image] : {std::pair{"grey", grey}, std::pair{"colour", colour}}) {
+  cv::randu(alpha, 0, 255);
+  cv::randu(deep_grey, 0, 65535);
+  cv::randu(deep_colour, 0, 65535);
+  for (const auto& [name, image] : {std::pair{"grey", grey}, std::pair{"colour", colour}, std::pair{"alpha", alpha},
+                                    std::pair{"deep_grey", deep_grey}, std::pair{"deep_colour", deep_colour}}) {
     const std::string path = dir + "/" + name + ".png";
     REQUIRE(cv::imwrite(path, image));
-    const std::optional<cv::Mat> decoded = internal::ReadPng8(path);
     INFO(name);
-    REQUIRE(decoded);
-    CHECK(SameImage(*decoded, cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR)));
-    CHECK(SameImage(*decoded, image));
+    const cv::Mat decoded = Decode(ReadBytes(path));
+    CHECK(decoded.type() == CV_8UC1);
+    CHECK(SameImage(decoded, ImreadGrey(path)));
+  }
+  // 8-bit grey comes back as written.
+  CHECK(SameImage(Decode(ReadBytes(dir + "/grey.png")), grey));
+}
+
+TEST_CASE("PNG reader: damaged files are InputErrors, not libpng messages", "[png][bad]") {
+  const Bytes png = EncodePng(37, 23, 1, RandomPixels(37 * 23, 5));
+  REQUIRE(Decode(png).size() == cv::Size(37, 23));
+  auto error_of = [](const Bytes& bytes) -> std::string {
+    try {
+      Decode(bytes, "bad.png");
+    } catch (const InputError& e) {
+      CHECK(e.file() == "bad.png");
+      return e.what();
+    }
+    return "";
+  };
+  // A cut file: the image data ends early.
+  CHECK_THAT(error_of(Bytes(png.begin(), png.begin() + static_cast<std::ptrdiff_t>(png.size() * 3 / 4))),
+             Contains("bad.png: damaged PNG: the file ends too early (truncated); expected a complete PNG file"));
+  // A flipped byte fails the chunk's CRC.
+  Bytes flipped = png;
+  flipped[png.size() / 2] ^= 0x10;
+  CHECK_THAT(error_of(flipped), Contains("bad.png: damaged PNG: "));
+  // Only the signature, and a header alone.
+  CHECK_THAT(error_of(Bytes(png.begin(), png.begin() + 8)), Contains("damaged PNG"));
+  CHECK_THAT(error_of(Bytes(png.begin(), png.begin() + 33)), Contains("damaged PNG"));
+}
+
+TEST_CASE("PNG header sizes are checked before any pixel memory is allocated", "[png][bad]") {
+  const std::string dir = test::TempDir("png_reader_huge");
+  const Camera camera = SmallCamera();
+  // Headers that claim 100000 x 100000 (10^10 pixels) and 65536 x 65536
+  // followed by a few bytes of data: refused from the header, naming the
+  // file and the size, without trying to allocate gigabytes.
+  for (const std::uint32_t side : {100000u, 65536u}) {
+    const std::string path = dir + "/huge" + std::to_string(side) + ".png";
+    WriteBytes(path, EncodePng(37, 23, 3, RandomPixels(37 * 23 * 3, 9), 0, side, side));
+    const std::string size = std::to_string(side) + "x" + std::to_string(side);
+    CHECK_THAT(LoadError(path, camera),
+               Contains(path + ": image is " + size + " but camera 'cam' has image_size [37, 23]"));
+    // The decoder shows the header's size to its caller before decoding.
+    const Bytes bytes = ReadBytes(path);
+    std::uint64_t seen = 0;
+    CHECK_THROWS_AS(internal::DecodePngGray(bytes.data(), bytes.size(), path,
+                                            [&](std::uint32_t w, std::uint32_t h) {
+                                              seen = std::uint64_t{w} * h;
+                                              throw InputError(path, "", "too big");
+                                            }),
+                    InputError);
+    CHECK(seen == std::uint64_t{side} * side);
   }
 }
 
-TEST_CASE("PNG reader leaves what it does not handle to OpenCV", "[png]") {
-  const std::string dir = test::TempDir("png_reader_fallback");
-  const Camera camera = SmallCamera();
-  const Bytes pixels = RandomPixels(37 * 23, 5);
-
-  // 16-bit: OpenCV reads it, LoadGrayImage scales it to 8 bits.
-  cv::Mat deep(23, 37, CV_16UC1);
-  cv::randu(deep, 0, 65535);
-  REQUIRE(cv::imwrite(dir + "/deep.png", deep));
-  CHECK_FALSE(internal::ReadPng8(dir + "/deep.png"));
-  const cv::Mat loaded = LoadGrayImage(dir + "/deep.png", camera);
-  CHECK(loaded.type() == CV_8UC1);
-  cv::Mat scaled;
-  deep.convertTo(scaled, CV_8U, 1.0 / 257.0);
-  CHECK(SameImage(loaded, scaled));
-
-  // Interlaced (Adam7) is not decoded here.
-  WriteBytes(dir + "/interlaced.png", EncodePng(37, 23, 1, pixels, 1));
-  CHECK_FALSE(internal::ReadPng8(dir + "/interlaced.png"));
-
-  // Damaged data: a flipped byte fails the chunk CRC (and the zlib checksum);
-  // a cut file has no IEND. Neither decodes, and loading says so.
-  Bytes png = EncodePng(37, 23, 1, pixels);
-  const std::string good = dir + "/good.png", flipped = dir + "/flipped.png", cut = dir + "/cut.png";
-  WriteBytes(good, png);
-  if (internal::HaveFastPngReader()) REQUIRE(internal::ReadPng8(good));
-  Bytes damaged = png;
-  damaged[png.size() / 2] ^= 0x10;
-  WriteBytes(flipped, damaged);
-  CHECK_FALSE(internal::ReadPng8(flipped));
-  WriteBytes(cut, Bytes(png.begin(), png.begin() + static_cast<std::ptrdiff_t>(png.size() * 3 / 4)));
-  CHECK_FALSE(internal::ReadPng8(cut));
-  CHECK_THROWS_AS(LoadGrayImage(cut, camera), InputError);
-
-  // Not a PNG at all, and a missing file.
-  test::WriteText(dir + "/text.png", "not an image");
-  CHECK_FALSE(internal::ReadPng8(dir + "/text.png"));
-  CHECK_THROWS_AS(LoadGrayImage(dir + "/text.png", camera), InputError);
-  CHECK_FALSE(internal::ReadPng8(dir + "/missing.png"));
-}
-
-TEST_CASE("LoadGrayImage gives the same grey through either reader", "[png]") {
+TEST_CASE("LoadGrayImage reads PNG with libspng and the rest with OpenCV", "[png]") {
   const std::string dir = test::TempDir("png_reader_grey");
   const Camera camera = SmallCamera();
   for (const int channels : {1, 3, 4}) {
@@ -230,12 +266,31 @@ TEST_CASE("LoadGrayImage gives the same grey through either reader", "[png]") {
     WriteBytes(path, EncodePng(37, 23, channels,
                                RandomPixels(37 * 23 * static_cast<std::size_t>(channels),
                                             static_cast<std::uint32_t>(10 + channels))));
-    cv::Mat expected = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
-    if (channels == 3) cv::cvtColor(expected, expected, cv::COLOR_BGR2GRAY);
-    if (channels == 4) cv::cvtColor(expected, expected, cv::COLOR_BGRA2GRAY);
     INFO(channels << " channels");
-    CHECK(SameImage(LoadGrayImage(path, camera), expected));
+    CHECK(SameImage(LoadGrayImage(path, camera), ImreadGrey(path)));
   }
+  // A PNG named .jpg is still a PNG (the signature decides), a TIFF is OpenCV's.
+  cv::Mat grey(23, 37, CV_8UC1);
+  cv::randu(grey, 0, 255);
+  REQUIRE(cv::imwrite(dir + "/real.png", grey));
+  std::filesystem::copy_file(dir + "/real.png", dir + "/named.jpg");
+  CHECK(SameImage(LoadGrayImage(dir + "/named.jpg", camera), grey));
+  REQUIRE(cv::imwrite(dir + "/real.tiff", grey));
+  CHECK(SameImage(LoadGrayImage(dir + "/real.tiff", camera), grey));
+
+  // A cut PNG, text named .png, a missing file, a folder.
+  const Bytes png = EncodePng(37, 23, 1, RandomPixels(37 * 23, 5));
+  WriteBytes(dir + "/cut.png", Bytes(png.begin(), png.begin() + static_cast<std::ptrdiff_t>(png.size() / 2)));
+  CHECK_THAT(LoadError(dir + "/cut.png", camera), Contains(dir + "/cut.png: damaged PNG: the file ends too early"));
+  test::WriteText(dir + "/text.png", "not an image");
+  CHECK_THAT(LoadError(dir + "/text.png", camera),
+             Contains(dir + "/text.png: unreadable image: expected a PNG, JPEG or TIFF file"));
+  CHECK_THAT(LoadError(dir + "/missing.png", camera), Contains("image file does not exist (camera 'cam')"));
+  // A wrong size from the file's own header, for PNG and for OpenCV's formats.
+  Camera other = camera;
+  other.width = 40;
+  CHECK_THAT(LoadError(dir + "/real.png", other), Contains("image is 37x23 but camera 'cam' has image_size [40, 23]"));
+  CHECK_THAT(LoadError(dir + "/real.tiff", other), Contains("image is 37x23 but camera 'cam' has image_size [40, 23]"));
 }
 
 }  // namespace handeye

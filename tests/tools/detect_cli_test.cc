@@ -78,6 +78,34 @@ TEST_CASE("handeye detect: bad input exits with 2 and says what is wrong", "[too
     CHECK_THAT(out, Contains("error: " + dir + "/images/p2.png: image file does not exist"));
     CHECK_FALSE(std::filesystem::exists(dir + "/obs.json"));
   }
+  SECTION("a truncated PNG: our message only, none of libpng's") {
+    const std::string image = dir + "/images/p1.png";
+    const std::string bytes = test::ReadText(image);
+    test::WriteText(image, bytes.substr(0, bytes.size() / 2));
+    CHECK(test::RunHandeye("detect '" + dataset + "' -o '" + dir + "/obs.json'", &out) == 2);
+    CHECK_THAT(out, Contains("error: " + image + ": damaged PNG: the file ends too early (truncated)"));
+    CHECK_THAT(out, !Contains("libpng"));
+    CHECK_FALSE(std::filesystem::exists(dir + "/obs.json"));
+  }
+  SECTION("a PNG whose header claims a huge size: refused from the header") {
+    // The IHDR chunk of a 100000 x 100000 and of a 65536 x 65536 image (CRC
+    // included) in front of the real file's other chunks.
+    const std::string image = dir + "/images/p0.png";
+    const std::string real = test::ReadText(image);
+    const std::string signature = real.substr(0, 8), rest = real.substr(8 + 25);
+    const std::pair<std::uint32_t, std::string> headers[] = {
+        {100000, std::string("\x00\x00\x00\x0d" "IHDR" "\x00\x01\x86\xa0\x00\x01\x86\xa0\x08\x00\x00\x00\x00"
+                             "\x8d\x39\x54\x14", 25)},
+        {65536, std::string("\x00\x00\x00\x0d" "IHDR" "\x00\x01\x00\x00\x00\x01\x00\x00\x08\x00\x00\x00\x00"
+                            "\x49\xef\x6f\x3f", 25)}};
+    for (const auto& [side, ihdr] : headers) {
+      test::WriteText(image, signature + ihdr + rest);
+      CHECK(test::RunHandeye("detect '" + dataset + "' -o '" + dir + "/obs.json'", &out) == 2);
+      const std::string size = std::to_string(side) + "x" + std::to_string(side);
+      CHECK_THAT(out, Contains("error: " + image + ": image is " + size +
+                               " but camera 'camA' has image_size [240, 200]"));
+    }
+  }
   SECTION("an observations file has no images to detect in") {
     REQUIRE(test::RunHandeye("detect '" + dataset + "' -o '" + dir + "/obs.json'", &out) == 0);
     CHECK(test::RunHandeye("detect '" + dir + "/obs.json' -o '" + dir + "/obs2.json'", &out) == 2);
@@ -91,7 +119,10 @@ TEST_CASE("handeye detect: bad input exits with 2 and says what is wrong", "[too
     CHECK(test::RunHandeye("detect '" + dataset + "'", &out) == 2);
     CHECK_THAT(out, Contains("--output is required"));
     CHECK(test::RunHandeye("detect '" + dataset + "' -o x.json --threads -1", &out) == 2);
-    CHECK_THAT(out, Contains("--threads"));
+    CHECK_THAT(out, Contains("--threads: expected 0 (all cores) or a positive count, got -1"));
+    CHECK(out.size() < 200);  // no 300-digit range
+    CHECK(test::RunHandeye("detect '" + dataset + "' -o x.json --threads two", &out) == 2);
+    CHECK_THAT(out, Contains("--threads: expected 0 (all cores) or a positive count, got two"));
   }
 }
 

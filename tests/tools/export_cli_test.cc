@@ -8,7 +8,7 @@
 
 #include "handeye/core/transform.h"
 #include "handeye/io/result_json.h"
-#include "handeye/io/yaml_subset.h"
+#include "handeye/io/yaml_file.h"
 #include "support/test_support.h"
 
 using namespace handeye;
@@ -53,7 +53,7 @@ TEST_CASE("export writes every format, with the frame names asked for", "[cli][e
   REQUIRE(test::RunHandeye("export " + result + " --to tf-static-yaml --base-frame world --ee-frame flange -o " +
                                dir + "/tf.yaml",
                            &out) == 0);
-  const nlohmann::json tf = ReadYamlSubsetFile(dir + "/tf.yaml");
+  const nlohmann::json tf = ReadYamlFile(dir + "/tf.yaml");
   REQUIRE(tf["transforms"].size() == 3);
   CHECK(tf["transforms"][0]["header"]["frame_id"] == "world");
   CHECK(tf["transforms"][2]["header"]["frame_id"] == "flange");

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// The YAML subset reader behind the ROS and Kalibr intrinsics files and the
-// tf_static export: structures as those tools write them, and a clear error
-// for what the subset does not read.
-#include "handeye/io/yaml_subset.h"
+// The YAML reader (yaml-cpp, handed back as JSON) behind the ROS and Kalibr
+// intrinsics files and the tf_static export: structures as those tools write
+// them, how scalars are typed, and errors that name the file and the line.
+#include "handeye/io/yaml_file.h"
 
 #include <catch2/catch.hpp>
 
@@ -14,8 +14,8 @@ namespace {
 using Catch::Matchers::Contains;
 using nlohmann::json;
 
-TEST_CASE("YAML subset: block and flow collections, scalars, comments", "[io][yaml]") {
-  const json doc = ParseYamlSubset(R"(%YAML 1.2
+TEST_CASE("YAML: block and flow collections, scalars, comments", "[io][yaml]") {
+  const json doc = ParseYaml(R"(%YAML 1.2
 ---
 # a comment line
 name: cam0   # trailing comment
@@ -71,15 +71,40 @@ tagged: !!opencv-matrix
 }
 
 TEST_CASE("Full precision numbers read back exactly", "[io][yaml]") {
-  const json doc = ParseYamlSubset("x: 0.10000000000000001\ny: -2.2204460492503131e-16\n", "t.yaml");
+  const json doc = ParseYaml("x: 0.10000000000000001\ny: -2.2204460492503131e-16\n", "t.yaml");
   CHECK(doc["x"].get<double>() == 0.1);
   CHECK(doc["y"].get<double>() == -2.2204460492503131e-16);
 }
 
-TEST_CASE("YAML subset: errors name the file and the line", "[io][yaml]") {
+TEST_CASE("YAML: anchors, block scalars and typed scalars", "[io][yaml]") {
+  const json doc = ParseYaml(R"(base: &b {rows: 1, cols: 2}
+copy: *b
+text: |
+  two
+  lines
+quoted_number: "1.5"
+special: .inf
+not_a_number: 1.2.3
+hex: 0x10
+big: 123456789012345678901234567890
+)",
+                             "t.yaml");
+  CHECK(doc["copy"] == doc["base"]);
+  CHECK(doc["text"] == "two\nlines\n");
+  CHECK(doc["quoted_number"] == "1.5");
+  CHECK(doc["special"] == ".inf");
+  CHECK(doc["not_a_number"] == "1.2.3");
+  CHECK(doc["hex"] == "0x10");
+  CHECK(doc["big"].get<double>() == 123456789012345678901234567890.0);
+  CHECK(ParseYaml("", "empty.yaml").is_null());
+  // A trailing `---` (ros2 topic echo) starts no second document.
+  CHECK(ParseYaml("a: 1\n---\n", "t.yaml") == json({{"a", 1}}));
+}
+
+TEST_CASE("YAML: errors name the file and the line", "[io][yaml]") {
   auto require_error = [](const std::string& text, const std::string& expected) {
     try {
-      ParseYamlSubset(text, "bad.yaml");
+      ParseYaml(text, "bad.yaml");
     } catch (const InputError& e) {
       CHECK(e.file() == "bad.yaml");
       CHECK_THAT(e.what(), Contains(expected));
@@ -87,17 +112,13 @@ TEST_CASE("YAML subset: errors name the file and the line", "[io][yaml]") {
     }
     FAIL("accepted:\n" + text);
   };
-  require_error("a: 1\na: 2\n", "line 2: duplicate key 'a'");
-  require_error("a: 1\n   b: 2\n", "line 2: unexpected indentation");
-  require_error("a: 1, 2]\nb: 3\n", "line 1: ']' or '}' without a matching");
-  require_error("a: [1, 2\n", "never closed");
-  require_error("a: &anchor 1\n", "anchors and aliases");
-  require_error("a: |\n  text\n", "block scalars");
-  require_error("a:\n\t- 1\n", "a tab in the indentation");
-  require_error("a: 1\n---\nb: 2\n", "line 3: a second YAML document");
-  require_error("a: \"open\n", "unterminated quoted scalar");
-  require_error("a:\n  - 1\n  b: 2\n", "line 3: unexpected indentation");
-  CHECK_THROWS_WITH(ReadYamlSubsetFile("/nonexistent/x.yaml"), Contains("/nonexistent/x.yaml: file does not exist"));
+  require_error("a: 1\na: 2\n", "line 2, column 1: duplicate key 'a'");
+  require_error("outer:\n  a: 1\n  a: 2\n", "bad.yaml: at /outer: line 3, column 3: duplicate key 'a'");
+  require_error("a: 1\n   b: 2\n", "line 2");
+  require_error("a: [1, 2\n", "line 2");
+  require_error("a: 1\n---\nb: 2\n", "line 3, column 1: a second YAML document");
+  require_error("? [1, 2]\n: x\n", "line 1, column 3: expected a plain key, got a collection");
+  CHECK_THROWS_WITH(ReadYamlFile("/nonexistent/x.yaml"), Contains("/nonexistent/x.yaml: file does not exist"));
 }
 
 }  // namespace
