@@ -15,6 +15,7 @@ namespace handeye::tools {
 namespace {
 
 struct DetectArgs {
+  bool quiet = false;  // --quiet: no progress line
   std::string dataset;
   std::string output;
   int threads = 0;
@@ -46,7 +47,7 @@ void RunDetect(const DetectArgs& args) {
 
   DetectOptions options;
   options.threads = args.threads;
-  options.progress = ProgressLine("detecting");
+  options.progress = ProgressLine("detecting", args.quiet);
   DetectAll(&dataset, options);
 
   std::map<std::string, int> found_per_camera;
@@ -72,6 +73,7 @@ void RegisterDetect(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--reorthonormalise", args->reorthonormalise,
                 "replace slightly non-orthonormal robot rotations by the nearest rotation");
+  AddQuietFlag(cmd, &args->quiet);
   cmd->callback([args]() { RunDetect(*args); });
 }
 

@@ -19,6 +19,7 @@ namespace handeye::tools {
 namespace {
 
 struct SimulateArgs {
+  bool quiet = false;  // --quiet: no progress line
   std::string outdir;
   std::string cell;
   std::string preset;
@@ -105,7 +106,7 @@ void RunSimulate(const SimulateArgs& args) {
     throw InputError(args.outdir, "", "cannot create the output folder");
 
   SyntheticScene scene = MakeScene(scene_options, target);
-  WriteSimulation(&scene, render, args.outdir, args.threads, ProgressLine("rendering"));
+  WriteSimulation(&scene, render, args.outdir, args.threads, ProgressLine("rendering", args.quiet));
 
   std::size_t images = 0;
   for (const auto& pose : scene.dataset.poses) images += pose.images.size();
@@ -161,6 +162,7 @@ void RegisterSimulate(CLI::App& app) {
   cmd->add_option("--noise", args->noise, "sensor noise sigma in grey levels (default 2)");
   cmd->add_option("--threads", args->threads, "rendering threads (0 = all cores)");
   cmd->add_option("--image-size", args->image_size, "image size WIDTHxHEIGHT (default 1920x1080)");
+  AddQuietFlag(cmd, &args->quiet);
   cmd->callback([args]() { RunSimulate(*args); });
 }
 
