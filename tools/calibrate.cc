@@ -22,6 +22,7 @@ namespace handeye::tools {
 namespace {
 
 struct CalibrateArgs {
+  bool quiet = false;  // --quiet: no progress line
   std::string input;
   std::string output;
   std::string method = "joint";
@@ -94,7 +95,7 @@ void RunCalibrate(const CalibrateArgs& args) {
       throw InputError(args.input, "/observations", "observations, or poses with images to detect in");
     DetectOptions detect;
     detect.threads = args.threads;
-    detect.progress = ProgressLine("detecting");
+    detect.progress = ProgressLine("detecting", args.quiet);
     DetectAll(&dataset, detect);
   }
   CalibrationResult result;
@@ -114,7 +115,7 @@ void RunCalibrate(const CalibrateArgs& args) {
     report.threads = args.threads;
     report.dataset_label = args.input;
     report.result_label = args.output;
-    report.progress = ProgressLine("drawing overlays");
+    report.progress = ProgressLine("drawing overlays", args.quiet);
     const ReportSummary written = WriteReport(dataset, result, args.report, report);
     std::fprintf(stderr, "wrote %s (%zu warnings: see the report)\n", written.index_html.c_str(),
                  written.warnings.size());
@@ -151,6 +152,7 @@ void RegisterCalibrate(CLI::App& app) {
                 "replace slightly non-orthonormal robot rotations by the nearest rotation");
   cmd->add_option("--report", args->report,
                   "also write the HTML report and overlays into this folder");
+  AddQuietFlag(cmd, &args->quiet);
   cmd->callback([args]() { RunCalibrate(*args); });
 }
 

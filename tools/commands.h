@@ -24,9 +24,14 @@ void AddRecordedSubcommands(CLI::App& app);
 #define HANDEYE_SUBCOMMAND(order, fn) \
   [[maybe_unused]] static const bool handeye_subcommand_##fn = ::handeye::tools::RecordSubcommand(order, fn)
 
-/// A progress printer for stderr: redraws one line when stderr is a terminal,
-/// prints nothing otherwise.
-std::function<void(std::size_t, std::size_t)> ProgressLine(const std::string& what);
+/// A progress printer for stderr: one line redrawn in place with the items
+/// done / total, the rate and the time left, when stderr is a terminal and
+/// `quiet` is false; prints nothing otherwise (logs and pipes get no
+/// carriage returns).
+std::function<void(std::size_t, std::size_t)> ProgressLine(const std::string& what, bool quiet);
+
+/// Adds `--quiet` (no progress line) to a subcommand.
+void AddQuietFlag(CLI::App* cmd, bool* quiet);
 
 /// Prints each warning on stderr as "warning: ...".
 void PrintWarnings(const std::vector<std::string>& warnings);

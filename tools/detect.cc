@@ -16,6 +16,7 @@ namespace handeye::tools {
 namespace {
 
 struct DetectArgs {
+  bool quiet = false;  // --quiet: no progress line
   std::string dataset;
   std::string output;
   int threads = 0;
@@ -47,7 +48,7 @@ void RunDetect(const DetectArgs& args) {
 
   DetectOptions options;
   options.threads = args.threads;
-  options.progress = ProgressLine("detecting");
+  options.progress = ProgressLine("detecting", args.quiet);
   DetectAll(&dataset, options);
 
   std::map<std::string, int> found_per_camera;
@@ -73,6 +74,7 @@ void RegisterDetect(CLI::App& app) {
       ->check(ThreadCount());
   cmd->add_flag("--reorthonormalise", args->reorthonormalise,
                 "replace slightly non-orthonormal robot rotations by the nearest rotation");
+  AddQuietFlag(cmd, &args->quiet);
   cmd->callback([args]() { RunDetect(*args); });
 }
 

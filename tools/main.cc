@@ -4,6 +4,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <string>
 #include <cstdio>
 #include <iostream>
 
@@ -13,13 +17,49 @@
 
 namespace handeye::tools {
 
-std::function<void(std::size_t, std::size_t)> ProgressLine(const std::string& what) {
-  if (!isatty(fileno(stderr))) return {};
-  return [what](std::size_t done, std::size_t total) {
-    std::fprintf(stderr, "\r%s %zu/%zu", what.c_str(), done, total);
+namespace {
+
+/// Seconds as "m:ss" (or "h:mm:ss").
+std::string Duration(double seconds) {
+  const long total = std::lround(std::max(0.0, seconds));
+  char text[32];
+  if (total >= 3600)
+    std::snprintf(text, sizeof text, "%ld:%02ld:%02ld", total / 3600, total / 60 % 60, total % 60);
+  else
+    std::snprintf(text, sizeof text, "%ld:%02ld", total / 60, total % 60);
+  return text;
+}
+
+}  // namespace
+
+std::function<void(std::size_t, std::size_t)> ProgressLine(const std::string& what, bool quiet) {
+  if (quiet || !isatty(fileno(stderr))) return {};
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  // Redrawn at most 10 times a second: a thousand images a second would
+  // otherwise spend more time on the terminal than on the work.
+  auto last_drawn = std::make_shared<Clock::time_point>(start - std::chrono::seconds(1));
+  return [what, start, last_drawn](std::size_t done, std::size_t total) {
+    const Clock::time_point now = Clock::now();
+    if (done < total && now - *last_drawn < std::chrono::milliseconds(100)) return;
+    *last_drawn = now;
+    const double elapsed = std::chrono::duration<double>(now - start).count();
+    const double rate = elapsed > 0 ? done / elapsed : 0.0;
+    std::string tail;
+    if (done == total)
+      tail = "in " + Duration(elapsed);
+    else if (done > 0 && rate > 0)
+      tail = "ETA " + Duration((total - done) / rate);
+    // \r back to the start of the line, \033[K clears what a longer line left.
+    std::fprintf(stderr, "\r%s %zu/%zu  %.1f/s  %s\033[K", what.c_str(), done, total, rate,
+                 tail.c_str());
     if (done == total) std::fprintf(stderr, "\n");
     std::fflush(stderr);
   };
+}
+
+void AddQuietFlag(CLI::App* cmd, bool* quiet) {
+  cmd->add_flag("-q,--quiet", *quiet, "no progress line on the terminal");
 }
 
 namespace {

@@ -19,6 +19,7 @@ namespace handeye::tools {
 namespace {
 
 struct ReportArgs {
+  bool quiet = false;  // --quiet: no progress line
   std::string dataset;
   std::string result;
   std::string output;
@@ -52,7 +53,7 @@ void RunReport(const ReportArgs& args) {
                        "observations, or poses with images to detect in");
     DetectOptions detect;
     detect.threads = args.threads;
-    detect.progress = ProgressLine("detecting");
+    detect.progress = ProgressLine("detecting", args.quiet);
     DetectAll(&dataset, detect);
   }
 
@@ -62,7 +63,7 @@ void RunReport(const ReportArgs& args) {
   options.dataset_label =
       args.dataset + (args.observations.empty() ? "" : " + " + args.observations);
   options.result_label = args.result;
-  options.progress = ProgressLine("drawing overlays");
+  options.progress = ProgressLine("drawing overlays", args.quiet);
   ReportSummary summary;
   try {
     summary = WriteReport(dataset, result, args.output, options);
@@ -102,6 +103,7 @@ void RegisterReport(CLI::App& app) {
                 "skip the comparison with a per-camera closed-form solution");
   cmd->add_flag("--reorthonormalise", args->reorthonormalise,
                 "replace slightly non-orthonormal robot rotations by the nearest rotation");
+  AddQuietFlag(cmd, &args->quiet);
   cmd->callback([args]() { RunReport(*args); });
 }
 

@@ -20,6 +20,7 @@ namespace handeye::tools {
 namespace {
 
 struct SimulateArgs {
+  bool quiet = false;  // --quiet: no progress line
   std::string outdir;
   std::string cell;
   std::string preset;
@@ -106,7 +107,7 @@ void RunSimulate(const SimulateArgs& args) {
     throw InputError(args.outdir, "", "cannot create the output folder");
 
   SyntheticScene scene = MakeScene(scene_options, target);
-  WriteSimulation(&scene, render, args.outdir, args.threads, ProgressLine("rendering"));
+  WriteSimulation(&scene, render, args.outdir, args.threads, ProgressLine("rendering", args.quiet));
 
   std::size_t images = 0;
   for (const auto& pose : scene.dataset.poses) images += pose.images.size();
@@ -170,6 +171,7 @@ void RegisterSimulate(CLI::App& app) {
       ->check(NonNegativeNumber("a non-negative noise sigma in grey levels"));
   cmd->add_option("--threads", args->threads, "rendering threads (0 = all cores)")->check(ThreadCount());
   cmd->add_option("--image-size", args->image_size, "image size WIDTHxHEIGHT (default 1920x1080)");
+  AddQuietFlag(cmd, &args->quiet);
   cmd->callback([args]() { RunSimulate(*args); });
 }
 

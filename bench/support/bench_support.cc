@@ -7,6 +7,10 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <sys/resource.h>
+
+#include "handeye/detectors/registry.h"
+#include "handeye/io/image.h"
 
 namespace handeye::bench {
 
@@ -111,6 +115,71 @@ std::vector<std::string> SplitList(const std::string& text) {
   while (std::getline(ss, item, ','))
     if (!item.empty()) out.push_back(item);
   return out;
+}
+
+}  // namespace handeye::bench
+
+namespace handeye::bench {
+namespace {
+
+double ProcessCpuSeconds() {
+  struct rusage usage {};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec +
+         1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+}  // namespace
+
+std::vector<ImageTiming> DetectTimed(Dataset* dataset) {
+  const std::unique_ptr<Detector> detector = MakeDetector(dataset->target);
+  std::vector<ImageTiming> timings;
+  dataset->observations.clear();
+  for (const RobotPose& pose : dataset->poses) {
+    for (const Camera& camera : dataset->cameras) {
+      const auto image = pose.images.find(camera.name);
+      if (image == pose.images.end()) continue;
+      ImageTiming timing;
+      timing.pose_id = pose.id;
+      timing.camera = camera.name;
+      const double start = ProcessCpuSeconds();
+      const cv::Mat gray = LoadGrayImage(image->second, camera);
+      const double loaded = ProcessCpuSeconds();
+      std::optional<Detection> detection = detector->Detect(gray);
+      timing.detect_cpu_s = ProcessCpuSeconds() - loaded;
+      timing.load_cpu_s = loaded - start;
+      timing.found = detection && !detection->ids.empty();
+      if (timing.found) {
+        Observation view;
+        view.pose_id = pose.id;
+        view.camera = camera.name;
+        view.ids = std::move(detection->ids);
+        view.points_px = std::move(detection->points_px);
+        dataset->observations.push_back(std::move(view));
+      }
+      timings.push_back(std::move(timing));
+    }
+  }
+  return timings;
+}
+
+ClassTiming SummariseTimings(const std::vector<ImageTiming>& timings, bool found) {
+  std::vector<double> total_ms, load_ms;
+  for (const ImageTiming& t : timings) {
+    if (t.found != found) continue;
+    total_ms.push_back(1000.0 * (t.load_cpu_s + t.detect_cpu_s));
+    load_ms.push_back(1000.0 * t.load_cpu_s);
+  }
+  ClassTiming summary;
+  summary.images = static_cast<int>(total_ms.size());
+  if (total_ms.empty()) return summary;
+  std::sort(total_ms.begin(), total_ms.end());
+  summary.mean_ms = Mean(total_ms);
+  summary.median_ms = Median(total_ms);
+  summary.p90_ms = total_ms[static_cast<std::size_t>(0.9 * (total_ms.size() - 1))];
+  summary.max_ms = total_ms.back();
+  summary.mean_load_ms = Mean(load_ms);
+  return summary;
 }
 
 }  // namespace handeye::bench

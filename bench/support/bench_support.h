@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "handeye/core/calibration.h"
+#include "handeye/core/dataset.h"
 #include "handeye/core/synthetic.h"
 
 namespace handeye::bench {
@@ -61,5 +62,32 @@ DetectionError MeasureDetectionError(const SyntheticScene& scene);
 
 /// Splits "a,b,c".
 std::vector<std::string> SplitList(const std::string& text);
+
+}  // namespace handeye::bench
+
+namespace handeye::bench {
+
+/// One image's detection, timed: CPU seconds of the whole process (so OpenCV's
+/// own worker threads count) spent decoding it and detecting in it.
+struct ImageTiming {
+  std::string pose_id, camera;
+  bool found = false;
+  double load_cpu_s = 0;
+  double detect_cpu_s = 0;
+};
+
+/// Detects in every image of `dataset` one after the other on the calling
+/// thread, timing each (ImageTiming), and replaces dataset->observations with
+/// what was found, in pose then camera order as DetectAll() does.
+std::vector<ImageTiming> DetectTimed(Dataset* dataset);
+
+/// Per-image CPU milliseconds of one class of images (with or without the
+/// target): count, mean / median / 90th percentile / max of decode + detect,
+/// and the mean of decode alone.
+struct ClassTiming {
+  int images = 0;
+  double mean_ms = 0, median_ms = 0, p90_ms = 0, max_ms = 0, mean_load_ms = 0;
+};
+ClassTiming SummariseTimings(const std::vector<ImageTiming>& timings, bool found);
 
 }  // namespace handeye::bench

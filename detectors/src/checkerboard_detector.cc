@@ -13,6 +13,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "grid_patch.h"
 #include "saddle_regions.h"
 
 namespace handeye {
@@ -338,11 +339,12 @@ cv::Rect WithMargin(const Region& region, int factor, const cv::Rect& image) {
 }
 
 /// Regions of the full image that may hold a checkerboard: the clusters of
-/// saddle points of its half-resolution image `half`.
-std::vector<Region> BoardRegions(const cv::Mat& half) {
+/// the saddle points of its half-resolution image, of size `half_size`.
+std::vector<Region> BoardRegions(const std::vector<internal::SaddlePoint>& saddles,
+                                 cv::Size half_size) {
   std::vector<Region> regions;
   for (const internal::SaddleRegion& cluster :
-       internal::SaddleRegions(half, internal::SaddleRegionOptions{})) {
+       internal::SaddleRegions(saddles, half_size, internal::SaddleRegionOptions{})) {
     // Half pixel k covers full pixels 2k and 2k + 1.
     regions.push_back({cv::Rect(2 * cluster.box.x, 2 * cluster.box.y, 2 * cluster.box.width + 2,
                                 2 * cluster.box.height + 2),
@@ -447,7 +449,19 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
     if (half.empty()) half = MakeLevel(gray, 2).image;
     return Level{2, half};
   };
-  // Where the saddle points cluster.
+  // The saddle points of the half-resolution image, where the image has more
+  // than one level; and where they cluster.
+  std::optional<std::vector<internal::SaddlePoint>> saddles;
+  if (std::min(gray.cols, gray.rows) / 2 >= kMinLevelSide) {
+    saddles = internal::FindSaddlePoints(level_of(2).image, internal::SaddleRegionOptions{});
+    // The cascade's first stage: without a patch of grid among the saddle
+    // points there is no board to search for (boards of fewer than 3 x 2
+    // inner corners hold no such patch and are always searched).
+    internal::GridPatchOptions patch;
+    patch.rows = std::min(std::min(cols, rows), 3);
+    if (std::max(cols, rows) >= 3 && patch.rows >= 2 && !internal::HasGridPatch(*saddles, patch))
+      return std::nullopt;
+  }
   std::optional<std::vector<Region>> saddle_regions;
   auto covered = [&](const cv::Rect& region, std::size_t num_candidates) {
     for (std::size_t k = 0; k < num_candidates; ++k) {
@@ -464,7 +478,11 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
     // The saddle points are looked for in the half-resolution image, before
     // the first level when another follows (an image too small for more than
     // one level is searched whole at once).
-    if (!saddle_regions && (f > 1 || !first)) saddle_regions = BoardRegions(level_of(2).image);
+    if (!saddle_regions && (f > 1 || !first)) {
+      if (!saddles)
+        saddles = internal::FindSaddlePoints(level_of(2).image, internal::SaddleRegionOptions{});
+      saddle_regions = BoardRegions(*saddles, level_of(2).image.size());
+    }
     // Seen but rejected at a coarser level: look there first at this one, and
     // with the slower, more accurate corners. Grids rejected in a crop are
     // inside it, so they add no candidate.
@@ -478,9 +496,9 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
     // Then where the saddle points are; grids rejected there become
     // candidates.
     if (saddle_regions) {
-      for (const Region& saddles : *saddle_regions) {
-        if (saddles.square < kMinSaddleSpacingPx * f) continue;
-        const cv::Rect region = WithMargin(saddles, f, whole_image);
+      for (const Region& cluster : *saddle_regions) {
+        if (cluster.square < kMinSaddleSpacingPx * f) continue;
+        const cv::Rect region = WithMargin(cluster, f, whole_image);
         if (!covered(region, known) && search(level, region, thorough) == Outcome::kFound)
           return grid;
       }

@@ -8,11 +8,11 @@
 
 namespace handeye::internal {
 
-std::vector<SaddleRegion> SaddleRegions(const cv::Mat& gray, const SaddleRegionOptions& options) {
+std::vector<SaddlePoint> FindSaddlePoints(const cv::Mat& gray, const SaddleRegionOptions& options) {
   CV_Assert(gray.type() == CV_8UC1);
-  std::vector<SaddleRegion> regions;
+  std::vector<SaddlePoint> saddles;
   const int border = 2;  // the smoothing and derivatives there see replicated pixels
-  if (gray.cols <= 2 * border || gray.rows <= 2 * border) return regions;
+  if (gray.cols <= 2 * border || gray.rows <= 2 * border) return saddles;
 
   cv::Mat smooth;
   gray.convertTo(smooth, CV_32F);
@@ -40,13 +40,29 @@ std::vector<SaddleRegion> SaddleRegions(const cv::Mat& gray, const SaddleRegionO
   peaks.colRange(peaks.cols - border, peaks.cols).setTo(0);
   std::vector<cv::Point> points;
   cv::findNonZero(peaks, points);
-  if (static_cast<int>(points.size()) < options.min_points) return regions;
+  saddles.reserve(points.size());
+  for (const cv::Point& p : points)
+    saddles.push_back({p, dxx.at<float>(p), dxy.at<float>(p), dyy.at<float>(p)});
+  return saddles;
+}
+
+std::vector<SaddleRegion> SaddleRegions(const cv::Mat& gray, const SaddleRegionOptions& options) {
+  return SaddleRegions(FindSaddlePoints(gray, options), gray.size(), options);
+}
+
+std::vector<SaddleRegion> SaddleRegions(const std::vector<SaddlePoint>& saddles, cv::Size size,
+                                        const SaddleRegionOptions& options) {
+  std::vector<SaddleRegion> regions;
+  if (static_cast<int>(saddles.size()) < options.min_points) return regions;
+  std::vector<cv::Point> points;
+  points.reserve(saddles.size());
+  for (const SaddlePoint& s : saddles) points.push_back(s.pixel);
 
   // Single-linkage clusters: points in cells of the link distance, each
   // compared with those of its own and the 8 neighbouring cells.
   const double link2 = options.link_px * options.link_px;
   const int cell = std::max(1, static_cast<int>(std::ceil(options.link_px)));
-  const int cells_x = gray.cols / cell + 1, cells_y = gray.rows / cell + 1;
+  const int cells_x = size.width / cell + 1, cells_y = size.height / cell + 1;
   std::vector<std::vector<int>> cells(static_cast<std::size_t>(cells_x) * cells_y);
   for (int i = 0; i < static_cast<int>(points.size()); ++i)
     cells[static_cast<std::size_t>(points[i].y / cell) * cells_x + points[i].x / cell].push_back(i);

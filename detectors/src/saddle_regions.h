@@ -28,6 +28,21 @@ struct SaddleRegionOptions {
   int max_regions = 8;
 };
 
+/// One saddle point: where it is (pixels of the image searched) and the
+/// smoothed grey level's second derivatives there (3x3 Sobel of the smoothed
+/// image). Neighbouring inner corners of a checkerboard have Hessians of
+/// opposite sign (the dark squares swap sides), so the Frobenius product of
+/// theirs is negative.
+struct SaddlePoint {
+  cv::Point pixel;
+  float dxx = 0, dxy = 0, dyy = 0;
+};
+
+/// The saddle points of `gray` (8-bit, single channel), smoothed: local
+/// maxima of -det(H) above the strength of an X-junction of
+/// `options.min_contrast`, away from the border.
+std::vector<SaddlePoint> FindSaddlePoints(const cv::Mat& gray, const SaddleRegionOptions& options);
+
 /// One cluster of saddle points (pixels of the image searched).
 struct SaddleRegion {
   cv::Rect box;    ///< bounding box of the points
@@ -40,5 +55,8 @@ struct SaddleRegion {
 /// determinant, as at the X-junction where four squares of a checkerboard meet
 /// (straight edges give none, and an L corner little). Largest clusters first.
 std::vector<SaddleRegion> SaddleRegions(const cv::Mat& gray, const SaddleRegionOptions& options);
+/// The same from points FindSaddlePoints() found in an image of `size`.
+std::vector<SaddleRegion> SaddleRegions(const std::vector<SaddlePoint>& saddles, cv::Size size,
+                                        const SaddleRegionOptions& options);
 
 }  // namespace handeye::internal

@@ -37,8 +37,9 @@ std::string ReadText(const std::string& path) {
   return bytes.str();
 }
 
-int RunHandeye(const std::string& args, std::string* output) {
-  const std::string cmd = std::string(HANDEYE_BINARY) + " " + args + " 2>&1";
+namespace {
+
+int RunCommand(const std::string& cmd, std::string* output) {
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) throw std::runtime_error("cannot run " + cmd);
   std::array<char, 4096> buf;
@@ -48,6 +49,21 @@ int RunHandeye(const std::string& args, std::string* output) {
   const int status = pclose(pipe);
   if (output) *output = out;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace
+
+int RunHandeye(const std::string& args, std::string* output) {
+  return RunCommand(std::string(HANDEYE_BINARY) + " " + args + " 2>&1", output);
+}
+
+int RunHandeyeOnTerminal(const std::string& args, std::string* output) {
+  if (args.find('"') != std::string::npos)
+    throw std::invalid_argument("RunHandeyeOnTerminal: '\"' in the arguments");
+  // -e: script exits with the program's exit code; the typescript file is
+  // not wanted, the terminal's output comes through script's stdout.
+  return RunCommand("script -qec \"" + std::string(HANDEYE_BINARY) + " " + args + "\" /dev/null",
+                    output);
 }
 
 }  // namespace handeye::test

@@ -16,5 +16,8 @@ std::string ReadText(const std::string& path);
 /// Runs the handeye program with arguments; returns its exit code and
 /// fills *output with stdout+stderr.
 int RunHandeye(const std::string& args, std::string* output);
+/// The same with stdout and stderr on a pseudo-terminal (util-linux
+/// `script`), as when a person runs it; `args` must not contain '"'.
+int RunHandeyeOnTerminal(const std::string& args, std::string* output);
 
 }  // namespace handeye::test

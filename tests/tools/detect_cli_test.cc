@@ -53,6 +53,30 @@ TEST_CASE("handeye detect writes observations and a per-camera summary", "[tools
   CHECK(obs.observations[0].ids.size() == 20);
 }
 
+TEST_CASE("handeye detect shows progress on a terminal only, and not with --quiet",
+          "[tools][detect][progress]") {
+  const std::string dir = test::TempDir("cli_detect_progress");
+  const std::string dataset = WriteSmallDataset(dir);
+  const std::string detect = "detect '" + dataset + "' -o '" + dir + "/obs.json' --threads 1";
+  std::string out;
+  SECTION("a terminal: one line redrawn in place, ending with the count, the rate and the time") {
+    REQUIRE(test::RunHandeyeOnTerminal(detect, &out) == 0);
+    CHECK_THAT(out, Contains("\rdetecting 3/3  "));
+    CHECK_THAT(out, Contains("/s  in 0:0"));
+    CHECK_THAT(out, Contains("camA: 3 images, target found in 2"));
+  }
+  SECTION("--quiet on a terminal: no progress, the summary still") {
+    REQUIRE(test::RunHandeyeOnTerminal(detect + " --quiet", &out) == 0);
+    CHECK_THAT(out, !Contains("detecting"));
+    CHECK_THAT(out, Contains("camA: 3 images, target found in 2"));
+  }
+  SECTION("not a terminal: no progress and no carriage returns") {
+    REQUIRE(test::RunHandeye(detect, &out) == 0);
+    CHECK_THAT(out, !Contains("detecting"));
+    CHECK(out.find('\r') == std::string::npos);
+  }
+}
+
 TEST_CASE("handeye detect: bad input exits with 2 and says what is wrong", "[tools][detect][bad]") {
   const std::string dir = test::TempDir("cli_detect_bad");
   const std::string dataset = WriteSmallDataset(dir);
