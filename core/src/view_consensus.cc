@@ -220,7 +220,7 @@ std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
   if (chain_rms.size() < 3) return std::nullopt;
   // The chain has 6 fewer unknowns per view than PnP; clearly above it means
   // the robot's poses, not the detections, set the residuals.
-  if (Median(chain_rms) < 1.3 * Median(pnp_rms)) return std::nullopt;
+  if (Median(chain_rms) < 2.0 * Median(pnp_rms)) return std::nullopt;
   RobotPrior prior;
   // Medians of the norm of a 2D and of a 3D isotropic Gaussian: 1.1774 σ and 1.5382 σ.
   prior.sigma_rad = std::max(Median(angle_rad) / 1.5382, 1e-5 * kDeg);
