@@ -119,12 +119,9 @@ internal::Refinement RobustSolve(Problem* problem, const CalibrationOptions& opt
     }
     for (int v : off) {
       internal::View& view = problem->views[v];
-      const double rms = [&] {
-        double sum = 0;
-        const auto e = internal::ViewErrors(*problem, view, *refined.X[view.camera], Z[view.camera]);
-        for (double x : e) sum += x * x;
-        return std::sqrt(sum / e.size());
-      }();
+      double max_px = 0;
+      const double rms =
+          ViewRms(internal::ViewErrors(*problem, view, *refined.X[view.camera], Z[view.camera]), &max_px);
       std::ostringstream why;
       why.precision(3);
       why << "it disagrees with the calibration of the other views (RMS " << rms
