@@ -34,6 +34,7 @@ struct CalibrateArgs {
   int threads = 0;
   bool reorthonormalise = false;
   std::string report;  // --report DIR
+  std::string refine_intrinsics;  // --refine-intrinsics LIST
 };
 
 void PrintSummary(const CalibrationResult& result) {
@@ -75,6 +76,12 @@ void RunCalibrate(const CalibrateArgs& args) {
   options.reject_views = !args.keep_all_views;
   options.robot_sigma_mm = args.robot_sigma_mm;
   options.robot_sigma_deg = args.robot_sigma_deg;
+  if (!args.refine_intrinsics.empty()) {
+    std::string list_why;
+    const auto groups = ParseIntrinsicsGroups(args.refine_intrinsics, &list_why);
+    if (!groups) throw InputError("", "", "--refine-intrinsics: " + list_why);
+    options.refine_intrinsics = *groups;
+  }
   options.threads = args.threads > 0 ? args.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::string why;
   if (!options.Check(&why)) throw InputError("", "", "invalid option: " + why);
@@ -145,6 +152,9 @@ void RegisterCalibrate(CLI::App& app) {
       ->check(NonNegativeNumber("a non-negative sigma in degrees"));
   cmd->add_flag("--keep-all-views", args->keep_all_views,
                 "use every view with a plane pose, even those that disagree with the others");
+  cmd->add_option("--refine-intrinsics", args->refine_intrinsics,
+                  "joint: make these intrinsics of every camera unknowns of the solve: focal, "
+                  "principal_point, distortion (comma-separated) or all");
   cmd->add_flag("--no-cross-terms", args->no_cross_terms, "joint: leave out the camera-to-camera terms");
   cmd->add_option("--threads", args->threads, "threads for detection and the solver (0 = all cores)")
       ->check(ThreadCount());
