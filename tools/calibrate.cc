@@ -35,7 +35,16 @@ struct CalibrateArgs {
   bool reorthonormalise = false;
   std::string report;  // --report DIR
   std::string refine_intrinsics;  // --refine-intrinsics LIST
+  std::string observations_out;  // --observations-out FILE
 };
+
+// Fails on an output whose folder does not exist before minutes of detection.
+void CheckWritable(const std::string& path, const std::string& flag) {
+  const std::filesystem::path out(path);
+  std::error_code ec;
+  if (!std::filesystem::is_directory(out.has_parent_path() ? out.parent_path() : ".", ec))
+    throw InputError(path, "", (flag.empty() ? "" : flag + ": ") + "cannot write: its folder does not exist");
+}
 
 void PrintSummary(const CalibrationResult& result) {
   const bool eye_to_hand = result.setup == Setup::kEyeToHand;
@@ -85,10 +94,8 @@ void RunCalibrate(const CalibrateArgs& args) {
   options.threads = args.threads > 0 ? args.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::string why;
   if (!options.Check(&why)) throw InputError("", "", "invalid option: " + why);
-  const std::filesystem::path out(args.output);
-  std::error_code ec;
-  if (!std::filesystem::is_directory(out.has_parent_path() ? out.parent_path() : ".", ec))
-    throw InputError(args.output, "", "cannot write: its folder does not exist");
+  CheckWritable(args.output, "");
+  if (!args.observations_out.empty()) CheckWritable(args.observations_out, "--observations-out");
 
   LoadOptions load;
   load.reorthonormalise = args.reorthonormalise;
@@ -104,6 +111,12 @@ void RunCalibrate(const CalibrateArgs& args) {
     detect.threads = args.threads;
     detect.progress = ProgressLine("detecting", args.quiet);
     DetectAll(&dataset, detect);
+  }
+  if (!args.observations_out.empty()) {
+    // Before the solve, so that a calibration that fails (or is rerun with
+    // other options) need not detect again.
+    SaveObservations(dataset, args.observations_out);
+    std::fprintf(stderr, "wrote %s (%zu views)\n", args.observations_out.c_str(), dataset.observations.size());
   }
   CalibrationResult result;
   try {
@@ -162,6 +175,10 @@ void RegisterCalibrate(CLI::App& app) {
                 "replace slightly non-orthonormal robot rotations by the nearest rotation");
   cmd->add_option("--report", args->report,
                   "also write the HTML report and overlays into this folder");
+  cmd->add_option("--observations-out", args->observations_out,
+                  "also write the observations calibrated from (handeye-observations/1, as `detect -o` "
+                  "writes: detected from the images, or as read), for `calibrate` or `report` without "
+                  "detecting again");
   AddQuietFlag(cmd, &args->quiet);
   cmd->callback([args]() { RunCalibrate(*args); });
 }

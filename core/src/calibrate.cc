@@ -40,9 +40,15 @@ struct Estimate {
   bool per_camera_Z = false;
 };
 
-// Per-camera methods: a closed form (or per-camera refinement) on every
-// camera that has the views for it; the others are reported, not fatal.
-Estimate PerCameraEstimate(const Problem& problem, Method closed_form, std::vector<std::string>* warnings) {
+// One camera's closed-form (X_k, Z_k), or nullopt with the reason.
+using CameraSolve = std::function<std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>>(
+    int camera, std::string* why)>;
+
+// Per-camera methods: a closed form (`solve`, named `method_name` in
+// warnings) on every camera that has the views for it; the others are
+// reported, not fatal.
+Estimate PerCameraEstimate(const Problem& problem, const CameraSolve& solve, const std::string& method_name,
+                           std::vector<std::string>* warnings) {
   const size_t n = problem.camera_views.size();
   Estimate est;
   est.X.resize(n);
@@ -52,10 +58,10 @@ Estimate PerCameraEstimate(const Problem& problem, Method closed_form, std::vect
   for (size_t k = 0; k < n; ++k) {
     if (problem.camera_views[k].empty()) continue;
     std::string why;
-    const auto solved = internal::ClosedFormHandEye(problem, static_cast<int>(k), closed_form, &why);
+    const auto solved = solve(static_cast<int>(k), &why);
     if (!solved) {
       warnings->push_back("camera '" + problem.dataset->cameras[k].name + "' not calibrated by " +
-                          MethodName(closed_form) + ": " + why);
+                          method_name + ": " + why);
       continue;
     }
     est.X[k] = solved->first;
@@ -63,8 +69,7 @@ Estimate PerCameraEstimate(const Problem& problem, Method closed_form, std::vect
     solved_Z.push_back(solved->second);
   }
   if (solved_Z.empty())
-    throw SolveError(std::string("method '") + MethodName(closed_form) +
-                     "' could not calibrate any camera (see warnings)");
+    throw SolveError("method '" + method_name + "' could not calibrate any camera (see warnings)");
   est.shared_Z = internal::MeanTransform(solved_Z);
   return est;
 }
@@ -436,9 +441,16 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
       result.camera_pairs.push_back(p);
     }
   } else if (options.method == Method::kPerCamera) {
-    // Each camera on its own: ViSP (on diverse views) then the reprojection
-    // solve with its own Z over all views.
-    est = PerCameraEstimate(internal::WithDiverseViews(problem, 12), Method::kVisp, &result.warnings);
+    // Each camera on its own: a closed form that prints nothing (on diverse
+    // views) then the reprojection solve with its own Z over all views.
+    const Problem diverse = internal::WithDiverseViews(problem, 12);
+    est = PerCameraEstimate(
+        diverse,
+        [&](int camera, std::string* why) {
+          std::string chosen;
+          return internal::SilentClosedFormHandEye(diverse, camera, &chosen, why);
+        },
+        MethodName(options.method), &result.warnings);
     const double first_scale =
         std::max(1.0, 3.0 * internal::ResidualSigmaPx(problem, est.X, est.Z));
     const internal::Refinement refined = RobustSolve(
@@ -461,7 +473,12 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     est.shared_Z = internal::MeanTransform(solved);
     result.solver = refined.summary;
   } else {
-    est = PerCameraEstimate(problem, options.method, &result.warnings);
+    est = PerCameraEstimate(
+        problem,
+        [&](int camera, std::string* why) {
+          return internal::ClosedFormHandEye(problem, camera, options.method, why);
+        },
+        MethodName(options.method), &result.warnings);
     result.solver.converged = true;
     result.solver.termination = "CLOSED_FORM";
   }

@@ -108,6 +108,13 @@ std::optional<Eigen::Isometry3d> TargetFromCamera(const Problem& problem, int ca
 std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> ClosedFormHandEye(
     const Problem& problem, int camera, Method method, std::string* why);
 
+/// The better (median view RMS of the camera) of OpenCV's Park and Tsai
+/// closed forms on one camera: the initialisation of the reprojection solves,
+/// which must not print (ViSP does). `*chosen` names the method kept; nullopt
+/// with the reason in *why when neither solves.
+std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> SilentClosedFormHandEye(
+    const Problem& problem, int camera, std::string* chosen, std::string* why);
+
 /// Linear AX = XB over the motions of all cameras at once (shared Z), for
 /// cameras whose own motions are too few for a per-camera solve.
 std::optional<Eigen::Isometry3d> SharedTargetClosedForm(const Problem& problem);

@@ -23,7 +23,12 @@ enum class Method {
   kPerCamera,  ///< the same reprojection solve, one Z per camera (Evangelista et al.)
   kTsai, kPark, kHoraud, kAndreff, kDaniilidis,  ///< OpenCV calibrateHandEye, per camera
   kShah, kLi,  ///< OpenCV calibrateRobotWorldHandEye, per camera
-  kVisp,       ///< ViSP vpHandEyeCalibration, per camera
+  /// ViSP vpHandEyeCalibration, per camera. ViSP 3.5 always prints its
+  /// residuals to standard output, so Calibrate() points file descriptor 1 at
+  /// /dev/null around that call, one call at a time (a process-wide lock):
+  /// what other threads write to stdout meanwhile is lost. No other method
+  /// touches stdout.
+  kVisp,
 };
 /// The `--method` name of a method, e.g. "joint".
 const char* MethodName(Method method);
@@ -180,7 +185,8 @@ struct CalibrationResult {
 };
 
 /// Calibrates from the dataset's observations (detect first for images).
-/// Reentrant: calls on different datasets may run at the same time.
+/// Reentrant: calls may run at the same time, and nothing is written to
+/// standard output (for Method::kVisp see its note).
 /// Throws InputError for inconsistent input and SolveError when the problem
 /// cannot be solved (too few views, degenerate motion, a failed solve). A
 /// solve that hits the iteration limit is returned with a warning.
