@@ -513,11 +513,11 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   for (auto& [k, intrinsics] : refined_intrinsics) result.cameras[k].intrinsics = intrinsics;
   if (options.check_intrinsics) {
     // Focal length and principal point not refined: do the views agree with them?
-    std::vector<bool> check(num_cameras, true);
+    std::vector<unsigned> check(num_cameras, kFocal | kPrincipalPoint);
     for (const auto& [k, intrinsics] : refined_intrinsics) {
       const auto& names = intrinsics.refined;
-      check[k] = std::find(names.begin(), names.end(), "fx") == names.end() ||
-                 std::find(names.begin(), names.end(), "cx") == names.end();
+      if (std::find(names.begin(), names.end(), "fx") != names.end()) check[k] &= ~unsigned(kFocal);
+      if (std::find(names.begin(), names.end(), "cx") != names.end()) check[k] &= ~unsigned(kPrincipalPoint);
     }
     const auto intrinsics_warnings =
         internal::IntrinsicsWarnings(problem, est.X, Z, std::max(1.0, result.solver.cauchy_scale_px), check,

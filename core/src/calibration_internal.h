@@ -223,14 +223,16 @@ Camera EstimateIntrinsics(const Dataset& dataset, int k);
 /// Re-runs PnP of every used view with the problem's (refined) intrinsics.
 void RecomputePnp(Problem* problem, double max_rms_px);
 
-/// The check of the given intrinsics after a solve: per camera (those with
-/// `check[k]`), fx, fy, cx, cy as the camera's views say with X_k free and Z
-/// held; a warning where they differ from the given ones by more than 3σ and
-/// by a visible amount (0.3 % of the focal length, 0.5 px).
+/// The check of the given intrinsics after a solve: per camera, fx, fy, cx,
+/// cy as the camera's views alone say (X_k, its own Z and those four free); a
+/// warning where a group in `check[k]` (kFocal, kPrincipalPoint) differs from
+/// the given values by more than 3σ and by a visible amount (0.3 % of the
+/// focal length, 0.5 px).
 /// With `robot`, each robot pose is a block under that prior, as in the joint solve.
 std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
                                             const std::vector<std::optional<Eigen::Isometry3d>>& X,
                                             const TargetPoses& Z, double cauchy_scale_px,
-                                            const std::vector<bool>& check, const std::optional<RobotPrior>& robot);
+                                            const std::vector<unsigned>& check,
+                                            const std::optional<RobotPrior>& robot);
 
 }  // namespace handeye::internal

@@ -216,7 +216,7 @@ Camera EstimateIntrinsics(const Dataset& dataset, int k) {
 std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
                                             const std::vector<std::optional<Eigen::Isometry3d>>& X,
                                             const TargetPoses& Z, double cauchy_scale_px,
-                                            const std::vector<bool>& check,
+                                            const std::vector<unsigned>& check,
                                             const std::optional<RobotPrior>& robot) {
   using PoseManifold = ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>;
   const Dataset& dataset = *problem.dataset;
@@ -288,8 +288,8 @@ std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
       delta[p] = K[p] - camera.params[p];
     }
     auto off = [&](int p, double visible) { return std::abs(delta[p]) > std::max(3.0 * sigma[p], visible); };
-    const bool focal_off = off(0, 0.003 * camera.fx()) || off(1, 0.003 * camera.fy());
-    const bool centre_off = off(2, 0.5) || off(3, 0.5);
+    const bool focal_off = (check[k] & kFocal) && (off(0, 0.003 * camera.fx()) || off(1, 0.003 * camera.fy()));
+    const bool centre_off = (check[k] & kPrincipalPoint) && (off(2, 0.5) || off(3, 0.5));
     if (!focal_off && !centre_off) continue;
     std::ostringstream w;
     w << std::fixed;
