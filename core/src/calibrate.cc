@@ -322,6 +322,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   std::vector<std::vector<int>> undetermined(num_cameras);
   std::map<size_t, IntrinsicsResult> refined_intrinsics;
   std::optional<internal::RobotPrior> robot_model;  // the joint solve's, when it modelled the robot's error
+  std::map<size_t, PoseUncertainty> camera_sigma;
   if (options.method == Method::kJoint) {
     internal::Initialisation init = internal::InitialiseJoint(problem);
     result.notes.insert(result.notes.end(), init.notes.begin(), init.notes.end());
@@ -363,6 +364,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
             for (size_t k = 0; k < r.X.size(); ++k)
               if (r.X[k]) init.X[k] = r.X[k];
             init.Z = r.Z[0];
+            if (!r.M.empty()) init.M = r.M;
           };
           // The robot's pose error: as given, or estimated from the last
           // solution (the first round solves with exact poses first).
@@ -396,9 +398,19 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     }
     est.X = refined.X;
     est.shared_Z = refined.Z[0];
+    // How well the solution is known: the same problem at the solution.
+    CalibrationOptions final_options = options;
+    final_options.cauchy_scale_px = refined.summary.cauchy_scale_px;
+    const internal::Refinement covariance =
+        internal::RefineJoint(problem, init, final_options, robot, internal::JointStep::kCovariance);
+    for (size_t k = 0; k < num_cameras; ++k)
+      if (est.X[k] && covariance.X_covariance[k])
+        camera_sigma[k] = internal::UncertaintyOf(*est.X[k], *covariance.X_covariance[k], true);
+    if (covariance.Z_covariance)
+      result.target_sigma = internal::UncertaintyOf(est.shared_Z, *covariance.Z_covariance, false);
     for (size_t k = 0; k < num_cameras; ++k) {
       if (init.free_intrinsics[k].empty()) continue;
-      for (int p : internal::UndeterminedIntrinsics(start_cameras[k], refined.intrinsics_sigma[k],
+      for (int p : internal::UndeterminedIntrinsics(start_cameras[k], covariance.intrinsics_sigma[k],
                                                     init.free_intrinsics[k])) {
         if (estimated[k] && p < 4)
           throw SolveError("camera '" + dataset.cameras[k].name +
@@ -410,7 +422,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
       IntrinsicsResult intrinsics;
       intrinsics.camera = working.cameras[k];
       intrinsics.camera.has_intrinsics = true;
-      intrinsics.sigma = refined.intrinsics_sigma[k];
+      intrinsics.sigma = covariance.intrinsics_sigma[k];
       for (int p : init.free_intrinsics[k]) intrinsics.refined.push_back(Camera::ParamName(p));
       for (int p : undetermined[k]) intrinsics.undetermined.push_back(Camera::ParamName(p));
       if (!undetermined[k].empty()) {
@@ -511,6 +523,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   }
   FillResult(problem, est, options, &result);
   for (auto& [k, intrinsics] : refined_intrinsics) result.cameras[k].intrinsics = intrinsics;
+  for (auto& [k, sigma] : camera_sigma) result.cameras[k].sigma = sigma;
   if (options.check_intrinsics) {
     // Focal length and principal point not refined: do the views agree with them?
     std::vector<unsigned> check(num_cameras, kFocal | kPrincipalPoint);

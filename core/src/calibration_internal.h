@@ -136,6 +136,8 @@ struct Initialisation {
   /// pixel σ that weighs the prior against the reprojection residuals.
   std::vector<Camera> given_cameras;
   double pixel_sigma_px = 1.0;
+  /// With a robot prior: per pose, the start of its block (empty: the reported pose).
+  std::vector<std::optional<Eigen::Isometry3d>> M;
 };
 Initialisation InitialiseJoint(const Problem& problem);
 
@@ -153,12 +155,28 @@ struct Refinement {
   std::vector<Eigen::Isometry3d> Z;  ///< one (joint) or one per camera (per-camera)
   std::map<std::pair<int, int>, Eigen::Isometry3d> pairs;  ///< (k, t) → T_camk_camt
   SolverSummary summary;
-  /// Per camera (joint solve): the intrinsics after the solve, and 1σ of the
-  /// free ones (scaled by the residuals seen; 0 for fixed ones, infinite
-  /// when the views cannot determine them at all).
+  /// With a robot prior: per pose, the solved robot pose (nullopt for poses without views).
+  std::vector<std::optional<Eigen::Isometry3d>> M;
+  /// Per camera (joint solve): the intrinsics after the solve.
   std::vector<std::array<double, OpenCVCameraModel::kNumParams>> intrinsics;
+  /// JointStep::kCovariance: 1σ of the free intrinsics (scaled by the
+  /// residuals seen; 0 for fixed ones, infinite when the views cannot
+  /// determine them at all), and the tangent-space covariance of each X_k and
+  /// of Z (Ceres' quaternion-manifold tangent then translation; empty when
+  /// the Jacobian is rank deficient).
   std::vector<std::array<double, OpenCVCameraModel::kNumParams>> intrinsics_sigma;
+  std::vector<std::optional<Eigen::Matrix<double, 6, 6>>> X_covariance;
+  std::optional<Eigen::Matrix<double, 6, 6>> Z_covariance;
 };
+
+/// The uncertainty of pose P = T (or T⁻¹ with `invert`) from the
+/// tangent-space covariance of the pose block T (PoseManifold).
+PoseUncertainty UncertaintyOf(const Eigen::Isometry3d& T, const Eigen::Matrix<double, 6, 6>& tangent_covariance,
+                              bool invert);
+
+/// What RefineJoint does with the problem it builds: solve it, or only
+/// compute the covariance of the given values (the solution).
+enum class JointStep { kSolve, kCovariance };
 /// The robot's own pose error, when the joint solve models it: one pose block
 /// per robot pose, tied to the reported pose by a prior of these σ.
 struct RobotPrior {
@@ -183,7 +201,8 @@ std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
 /// The paper's joint solve: shared Z, optional c_cross terms; with `robot`,
 /// every robot pose is a block of the solve too, under its prior.
 Refinement RefineJoint(const Problem& problem, const Initialisation& init,
-                       const CalibrationOptions& options, const std::optional<RobotPrior>& robot = std::nullopt);
+                       const CalibrationOptions& options, const std::optional<RobotPrior>& robot = std::nullopt,
+                       JointStep step = JointStep::kSolve);
 /// One Z per camera, no cross terms (for --method per-camera).
 Refinement RefinePerCamera(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
                            const std::vector<Eigen::Isometry3d>& Z, const CalibrationOptions& options);

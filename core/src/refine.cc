@@ -122,19 +122,26 @@ SolverSummary Solve(ceres::Solver::Options solver, const CalibrationOptions& opt
   return out;
 }
 
-/// 1σ of every parameter of the intrinsics blocks (null: none, all 0), from
-/// the covariance at the solution scaled by the a posteriori variance factor
-/// (the residuals' own scale); infinite where the Jacobian is rank deficient.
-std::vector<std::array<double, OpenCVCameraModel::kNumParams>> IntrinsicsSigma(
-    ceres::Problem* problem, const std::vector<double*>& K, const std::vector<ceres::ResidualBlockId>& views,
-    int threads) {
+/// The covariance of the solution: tangent-space 6×6 of the pose blocks X_k
+/// and Z, and 1σ of every intrinsic parameter, from the Jacobian at the
+/// solution scaled by the a posteriori variance factor (the residuals' own
+/// scale) and by the view design factor (an error the points of a view share,
+/// e.g. a robot pose error not modelled, counts once per view, not per point).
+/// Fills `out`; leaves it empty when the Jacobian is rank deficient.
+void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& X, double* Z,
+                        const std::vector<double*>& K, const std::vector<ceres::ResidualBlockId>& views, int threads,
+                        Refinement* out) {
   constexpr int kN = OpenCVCameraModel::kNumParams;
-  std::vector<std::array<double, kN>> sigma(K.size());
-  for (auto& s : sigma) s.fill(0.0);
+  out->intrinsics_sigma.assign(K.size(), {});
+  for (auto& s : out->intrinsics_sigma) s.fill(0.0);
+  out->X_covariance.assign(X.size(), std::nullopt);
+  out->Z_covariance.reset();
   std::vector<std::pair<const double*, const double*>> pairs;
+  for (double* block : X)
+    if (block) pairs.emplace_back(block, block);
+  pairs.emplace_back(Z, Z);
   for (double* block : K)
     if (block) pairs.emplace_back(block, block);
-  if (pairs.empty()) return sigma;
   double cost = 0;
   problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
   std::vector<double*> blocks;
@@ -149,33 +156,39 @@ std::vector<std::array<double, OpenCVCameraModel::kNumParams>> IntrinsicsSigma(
   covariance_options.num_threads = threads;
   ceres::Covariance covariance(covariance_options);
   const bool ok = covariance.Compute(pairs, problem);
+  using Matrix6 = Eigen::Matrix<double, 6, 6, Eigen::RowMajor>;
+  auto pose_covariance = [&](const double* block) {
+    Matrix6 C;
+    covariance.GetCovarianceBlockInTangentSpace(block, block, C.data());
+    return Eigen::Matrix<double, 6, 6>(C * variance_factor);
+  };
+  if (ok) {
+    for (size_t k = 0; k < X.size(); ++k)
+      if (X[k]) out->X_covariance[k] = pose_covariance(X[k]);
+    out->Z_covariance = pose_covariance(Z);
+  }
   for (size_t k = 0; k < K.size(); ++k) {
     if (!K[k]) continue;
     Eigen::Matrix<double, kN, kN, Eigen::RowMajor> C = Eigen::Matrix<double, kN, kN, Eigen::RowMajor>::Zero();
     if (ok) covariance.GetCovarianceBlock(K[k], K[k], C.data());
     const ceres::Manifold* manifold = problem->GetManifold(K[k]);
-    const int free = manifold ? manifold->TangentSize() : kN;
-    for (int p = 0; p < kN; ++p) {
-      if (ok)
-        sigma[k][p] = std::sqrt(std::max(0.0, C(p, p)) * variance_factor);
-      else
-        sigma[k][p] = free > 0 ? std::numeric_limits<double>::infinity() : 0.0;
-    }
+    for (int p = 0; p < kN; ++p)
+      out->intrinsics_sigma[k][p] =
+          ok ? std::sqrt(std::max(0.0, C(p, p)) * variance_factor) : std::numeric_limits<double>::infinity();
     if (!ok && manifold) {
       // Fixed parameters stay exact: the subset manifold's plus is the identity on them.
       Eigen::Matrix<double, kN, Eigen::Dynamic, Eigen::RowMajor> P(kN, manifold->TangentSize());
       manifold->PlusJacobian(K[k], P.data());
       for (int p = 0; p < kN; ++p)
-        if (P.row(p).isZero()) sigma[k][p] = 0.0;
+        if (P.row(p).isZero()) out->intrinsics_sigma[k][p] = 0.0;
     }
   }
-  return sigma;
 }
 
 }  // namespace
 
-Refinement RefineJoint(const Problem& problem, const Initialisation& init,
-                       const CalibrationOptions& options, const std::optional<RobotPrior>& robot) {
+Refinement RefineJoint(const Problem& problem, const Initialisation& init, const CalibrationOptions& options,
+                       const std::optional<RobotPrior>& robot, JointStep step) {
   const Dataset& dataset = *problem.dataset;
   ceres::Problem::Options problem_options;
   problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
@@ -218,7 +231,7 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
   std::vector<double*> M(dataset.poses.size(), nullptr);
   auto robot_pose = [&](int j) {
     if (!M[j]) {
-      M[j] = blocks.Add(problem.M[j]);
+      M[j] = blocks.Add(j < static_cast<int>(init.M.size()) && init.M[j] ? *init.M[j] : problem.M[j]);
       ceres_problem.AddParameterBlock(M[j], 7);
       SetPoseManifold(&ceres_problem, M[j]);
       ceres_problem.AddResidualBlock(
@@ -314,7 +327,7 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
   // on the way to the same minimum.
   solver.initial_trust_region_radius = 1e6;
   Refinement out;
-  out.summary = Solve(solver, options, &ceres_problem);
+  if (step == JointStep::kSolve) out.summary = Solve(solver, options, &ceres_problem);
   out.Z.push_back(PoseBlocks::Get(Z));
   out.X.resize(X.size());
   for (size_t k = 0; k < X.size(); ++k)
@@ -322,7 +335,11 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
   for (const auto& [pair, Y_kt] : pair_blocks)
     out.pairs[pair] = PoseBlocks::Get(Y_kt) * out.X[pair.second]->inverse();
   out.intrinsics = K;
-  out.intrinsics_sigma = IntrinsicsSigma(&ceres_problem, K_block, direct_blocks, options.threads);
+  out.M.resize(M.size());
+  for (size_t j = 0; j < M.size(); ++j)
+    if (M[j]) out.M[j] = PoseBlocks::Get(M[j]);
+  if (step == JointStep::kCovariance)
+    SolutionCovariance(&ceres_problem, X, Z, K_block, direct_blocks, options.threads, &out);
   return out;
 }
 

@@ -8,44 +8,50 @@
 
 #include <memory>
 
+#include "calibration_internal.h"
 #include "handeye/core/cost_functions.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
 
 namespace handeye {
-namespace {
+namespace internal {
 
-// Jacobians, with respect to a pose block's tangent (Ceres' quaternion
-// manifold turns by 2|δ| for a step δ, hence differentiate rather than assume),
-// of the camera position c = −R_Xᵀ t_X and of the orientation change (rotation
-// vector of R_X(δ) · R_Xᵀ, whose angle is that of the camera's own orientation change).
-struct TangentJacobians {
-  Eigen::Matrix<double, 3, 6> position;
-  Eigen::Matrix<double, 3, 6> rotation;
-};
-
-TangentJacobians PoseJacobians(const PoseParams& X) {
+// Ceres' quaternion manifold turns by 2|δ| for a step δ, hence the
+// Jacobians with respect to the tangent are differentiated, not assumed.
+PoseUncertainty UncertaintyOf(const Eigen::Isometry3d& T, const Eigen::Matrix<double, 6, 6>& tangent_covariance,
+                              bool invert) {
   ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>> manifold;
-  const Eigen::Isometry3d X0 = FromPoseParams(X.data());
-  TangentJacobians J;
+  const PoseParams T0 = ToPoseParams(T);
+  const Eigen::Isometry3d P0 = invert ? T.inverse() : T;
+  // d(position mm, rotation deg of P)/d(tangent of T), central differences.
+  Eigen::Matrix<double, 6, 6> J;
   const double h = 1e-7;
   for (int i = 0; i < 6; ++i) {
     Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Zero();
-    PoseParams plus = X, minus = X;
+    PoseParams plus = T0, minus = T0;
     d(i) = h;
-    manifold.Plus(X.data(), d.data(), plus.data());
+    manifold.Plus(T0.data(), d.data(), plus.data());
     d(i) = -h;
-    manifold.Plus(X.data(), d.data(), minus.data());
-    const Eigen::Isometry3d Xp = FromPoseParams(plus.data()), Xm = FromPoseParams(minus.data());
-    J.position.col(i) = (Eigen::Vector3d(Xp.inverse().translation()) -
-                         Eigen::Vector3d(Xm.inverse().translation())) / (2 * h);
-    J.rotation.col(i) = (RotationVectorFromMatrix(Xp.linear() * X0.linear().transpose()) -
-                         RotationVectorFromMatrix(Xm.linear() * X0.linear().transpose())) / (2 * h);
+    manifold.Plus(T0.data(), d.data(), minus.data());
+    Eigen::Isometry3d Pp = FromPoseParams(plus.data()), Pm = FromPoseParams(minus.data());
+    if (invert) {
+      Pp = Pp.inverse();
+      Pm = Pm.inverse();
+    }
+    J.block<3, 1>(0, i) = 1000.0 * (Pp.translation() - Pm.translation()) / (2 * h);
+    J.block<3, 1>(3, i) = (180.0 / M_PI) *
+                          (RotationVectorFromMatrix(Pp.linear() * P0.linear().transpose()) -
+                           RotationVectorFromMatrix(Pm.linear() * P0.linear().transpose())) /
+                          (2 * h);
   }
-  return J;
+  PoseUncertainty out;
+  out.covariance = J * tangent_covariance * J.transpose();
+  out.position_mm = std::sqrt(std::max(0.0, out.covariance.topLeftCorner<3, 3>().trace()));
+  out.rotation_deg = std::sqrt(std::max(0.0, out.covariance.bottomRightCorner<3, 3>().trace()));
+  return out;
 }
 
-}  // namespace
+}  // namespace internal
 
 PositionCovariance ComputePositionCovariance(const Dataset& dataset, const CalibrationResult& at,
                                              double noise_px) {
@@ -96,10 +102,11 @@ PositionCovariance ComputePositionCovariance(const Dataset& dataset, const Calib
     if (!has_views[k]) continue;
     Eigen::Matrix<double, 6, 6, Eigen::RowMajor> C;
     covariance.GetCovarianceBlockInTangentSpace(X[k].data(), X[k].data(), C.data());
-    C *= noise_px * noise_px;
-    const TangentJacobians J = PoseJacobians(X[k]);
-    out.camera_position[dataset.cameras[k].name] = J.position * C * J.position.transpose();
-    out.camera_rotation[dataset.cameras[k].name] = J.rotation * C * J.rotation.transpose();
+    const PoseUncertainty u =
+        internal::UncertaintyOf(FromPoseParams(X[k].data()), Eigen::Matrix<double, 6, 6>(C) * noise_px * noise_px, true);
+    constexpr double kMmToM = 1e-3, kDegToRad = M_PI / 180.0;
+    out.camera_position[dataset.cameras[k].name] = u.covariance.topLeftCorner<3, 3>() * kMmToM * kMmToM;
+    out.camera_rotation[dataset.cameras[k].name] = u.covariance.bottomRightCorner<3, 3>() * kDegToRad * kDegToRad;
   }
   return out;
 }

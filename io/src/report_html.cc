@@ -2,6 +2,7 @@
 // The report's index.html: one self-contained page (inline CSS, relative
 // image links, no JavaScript, no network) that opens from disk.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -114,6 +115,43 @@ std::string Figure(const ReportModel& model, const ViewModel& view, int thumb_w)
     out << " · <span class=\"bad\">rejected</span>: " << Escape(view.rejected_because);
   out << "</figcaption></figure>\n";
   return out.str();
+}
+
+// 1σ of a point 1 m and 3 m in front of the camera, in the parent frame (mm):
+// the camera's position and orientation uncertainty where a user places things.
+double PointSigmaMm(const CameraResult& cam, double depth_m) {
+  const Eigen::Vector3d p = cam.T_cam.linear() * Eigen::Vector3d(0, 0, depth_m);  // m, from the camera centre
+  Eigen::Matrix<double, 3, 6> J;
+  J.leftCols<3>().setIdentity();
+  Eigen::Matrix3d skew;
+  skew << 0, -p.z(), p.y(), p.z(), 0, -p.x(), -p.y(), p.x(), 0;
+  J.rightCols<3>() = -skew * (M_PI / 180.0) * 1000.0;  // mm per degree of rotation
+  return std::sqrt(std::max(0.0, (J * cam.sigma->covariance * J.transpose()).trace()));
+}
+
+void UncertaintyTable(const ReportModel& model, std::ostringstream& out) {
+  bool any = false;
+  for (const CameraModel& cam : model.cameras) any = any || cam.result->sigma;
+  if (!any) return;
+  out << "<h3>How well each camera is known (1σ)</h3>\n<table>\n<tr><th class=\"name\">camera</th>"
+      << "<th>position<br>± mm</th><th>orientation<br>± °</th><th>point 1 m in front<br>± mm</th>"
+      << "<th>point 3 m in front<br>± mm</th></tr>\n";
+  for (size_t k = 0; k < model.cameras.size(); ++k) {
+    const CameraResult& cam = *model.cameras[k].result;
+    if (!cam.sigma) continue;
+    out << "<tr><td class=\"name\">" << Swatch(static_cast<int>(k)) << Escape(cam.name) << "</td><td>"
+        << Num(cam.sigma->position_mm, 2) << "</td><td>" << Num(cam.sigma->rotation_deg, 4) << "</td><td>"
+        << Num(PointSigmaMm(cam, 1.0), 2) << "</td><td>" << Num(PointSigmaMm(cam, 3.0), 2) << "</td></tr>\n";
+  }
+  out << "</table>\n<p class=\"small\">From the covariance of the solution, scaled by the residuals seen "
+         "(robot pose error and detection noise included). ± mm is the RMS error over the three axes "
+         "together; a point in front of a camera is where the camera puts something it sees at that "
+         "distance.";
+  if (model.result->target_sigma)
+    out << " The target on the " << (model.result->setup == Setup::kEyeToHand ? "flange" : "base")
+        << ": ± " << Num(model.result->target_sigma->position_mm, 2) << " mm, ± "
+        << Num(model.result->target_sigma->rotation_deg, 4) << "°.";
+  out << "</p>\n";
 }
 
 // Refined (or estimated) intrinsics beside the given ones.
@@ -335,6 +373,7 @@ std::string RenderHtml(const ReportModel& model, const PlotFiles& plots,
 
   out << "<h2 id=\"cameras\">Cameras</h2>\n";
   CameraTables(model, out);
+  UncertaintyTable(model, out);
   IntrinsicsTable(model, out);
   SharedAndPairs(model, out);
 

@@ -36,6 +36,30 @@ bool ReadBool(const JsonReader& value) {
   return value.json().get<bool>();
 }
 
+nlohmann::ordered_json SigmaJson(const PoseUncertainty& sigma) {
+  nlohmann::ordered_json covariance = nlohmann::ordered_json::array();
+  for (int r = 0; r < 6; ++r) {
+    nlohmann::ordered_json row = nlohmann::ordered_json::array();
+    for (int c = 0; c < 6; ++c) row.push_back(sigma.covariance(r, c));
+    covariance.push_back(row);
+  }
+  return {{"position_mm", sigma.position_mm}, {"rotation_deg", sigma.rotation_deg}, {"covariance", covariance}};
+}
+
+PoseUncertainty ReadSigma(const JsonReader& r) {
+  PoseUncertainty sigma;
+  sigma.position_mm = r.Key("position_mm").Number();
+  sigma.rotation_deg = r.Key("rotation_deg").Number();
+  const JsonReader covariance = r.Key("covariance");
+  if (covariance.ArraySize("a 6×6 array") != 6) throw covariance.Error("a 6×6 array");
+  for (int row = 0; row < 6; ++row) {
+    const JsonReader values = covariance.At(row);
+    if (values.ArraySize("a row of 6 numbers") != 6) throw values.Error("a row of 6 numbers");
+    for (int c = 0; c < 6; ++c) sigma.covariance(row, c) = values.At(c).Number();
+  }
+  return sigma;
+}
+
 // The refined intrinsics in the dataset's form, their 1σ and what was refined.
 void AddIntrinsics(const IntrinsicsResult& intrinsics, nlohmann::ordered_json* c) {
   (*c)["image_size"] = {intrinsics.camera.width, intrinsics.camera.height};
@@ -90,6 +114,7 @@ void SaveResult(const CalibrationResult& result, const std::string& path) {
       AddSummary(cam.T_cam, &c);
       if (cam.own_T_target) c[TargetKey(result.setup)] = JsonFromTransform(*cam.own_T_target);
       c["rms_px"] = cam.rms_px;
+      if (cam.sigma) c["sigma"] = SigmaJson(*cam.sigma);
       if (cam.intrinsics) AddIntrinsics(*cam.intrinsics, &c);
     }
     c["views"] = cam.views;
@@ -101,6 +126,7 @@ void SaveResult(const CalibrationResult& result, const std::string& path) {
   nlohmann::ordered_json target_summary;
   AddSummary(result.T_target, &target_summary);
   root[std::string(TargetKey(result.setup)) + "_summary"] = target_summary;
+  if (result.target_sigma) root[std::string(TargetKey(result.setup)) + "_sigma"] = SigmaJson(*result.target_sigma);
   nlohmann::ordered_json pairs = nlohmann::ordered_json::object();
   for (const CameraPairResult& p : result.camera_pairs) {
     nlohmann::ordered_json entry;
@@ -164,12 +190,15 @@ CalibrationResult LoadResult(const std::string& path) {
       c.rms_px = cam.Key("rms_px").Number();
       if (cam.Has(TargetKey(result.setup))) c.own_T_target = cam.Key(TargetKey(result.setup)).Rigid(false);
       if (cam.Has("intrinsics")) c.intrinsics = ReadIntrinsicsResult(cam, name);
+      if (cam.Has("sigma")) c.sigma = ReadSigma(cam.Key("sigma"));
     }
     c.views = cam.Key("views").Int(0);
     c.views_rejected = cam.Key("views_rejected").Int(0);
     result.cameras.push_back(c);
   }
   result.T_target = root.Key(TargetKey(result.setup)).Rigid(false);
+  const std::string target_sigma = std::string(TargetKey(result.setup)) + "_sigma";
+  if (root.Has(target_sigma)) result.target_sigma = ReadSigma(root.Key(target_sigma));
   if (root.Has("camera_pairs")) {
     for (const auto& [key, entry] : root.Key("camera_pairs").Members("an object of camera pairs")) {
       const auto slash = key.find('/');

@@ -22,11 +22,27 @@ CalibrationResult SampleResult(Setup setup) {
   a.rms_px = 0.19;
   a.views = 9;
   a.views_rejected = 1;
+  PoseUncertainty sigma;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) sigma.covariance(i, j) = i == j ? 0.01 * (i + 1) : 0.001 * (i + j);
+  sigma.position_mm = 0.245;
+  sigma.rotation_deg = 0.0057;
+  a.sigma = sigma;
+  IntrinsicsResult intrinsics;
+  std::string why;
+  intrinsics.camera = *Camera::Make("cam0", 1920, 1080, 1375.5, 1374.25, 959.5, 539.75, {-0.05, 0.01, 0, 0, 0}, &why);
+  intrinsics.sigma[0] = 0.8;
+  intrinsics.sigma[2] = 0.3;
+  intrinsics.sigma[4] = 0.002;
+  intrinsics.refined = {"fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2"};
+  intrinsics.undetermined = {"k2"};
+  a.intrinsics = intrinsics;
   CameraResult b;
   b.name = "cam1";
   b.calibrated = false;
   r.cameras = {a, b};
   r.T_target = MakeTransformFromRotationVector({0.1, 0.2, 0.3}, {0.01, 0.02, 0.1});
+  r.target_sigma = sigma;
   CameraPairResult p;
   p.camera_k = "cam0";
   p.camera_t = "cam1";
@@ -77,6 +93,23 @@ TEST_CASE("Result files round trip exactly, both setups", "[result]") {
     CHECK(back.views[1].rejected_because == "fewer than 4 points");
     CHECK(back.warnings == r.warnings);
     CHECK(back.notes == r.notes);
+    // Uncertainty and refined intrinsics, in the dataset's form.
+    REQUIRE(back.cameras[0].sigma);
+    CHECK(back.cameras[0].sigma->covariance == r.cameras[0].sigma->covariance);
+    CHECK(back.cameras[0].sigma->position_mm == 0.245);
+    REQUIRE(back.target_sigma);
+    CHECK(back.target_sigma->rotation_deg == 0.0057);
+    CHECK_FALSE(back.cameras[1].sigma);
+    REQUIRE(back.cameras[0].intrinsics);
+    const IntrinsicsResult& in = *back.cameras[0].intrinsics;
+    CHECK(in.camera.params == r.cameras[0].intrinsics->camera.params);
+    CHECK(in.camera.width == 1920);
+    CHECK(in.camera.num_distortion == 5);
+    CHECK(in.sigma == r.cameras[0].intrinsics->sigma);
+    CHECK(in.refined == r.cameras[0].intrinsics->refined);
+    CHECK(in.undetermined == r.cameras[0].intrinsics->undetermined);
+    CHECK(text.find("\"intrinsics_sigma\"") != std::string::npos);
+    CHECK(text.find("\"position_mm\"") != std::string::npos);
   }
 }
 

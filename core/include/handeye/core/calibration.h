@@ -107,6 +107,19 @@ struct ViewResult {
   bool outlier = false;
 };
 
+/// How well a pose is known (1σ), from the covariance of the solution scaled
+/// by the residuals actually seen.
+struct PoseUncertainty {
+  /// sqrt of the trace of the position's 3×3 covariance, mm: the RMS of the
+  /// position error over the three axes together.
+  double position_mm = 0;
+  /// The same for the orientation (rotation vector of the error, in the
+  /// parent frame), degrees.
+  double rotation_deg = 0;
+  /// Covariance of (x, y, z in mm; rx, ry, rz in deg), in the parent frame.
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+};
+
 /// A camera's intrinsics as the joint solve refined (or estimated) them.
 struct IntrinsicsResult {
   /// The refined camera (same name and size; distortion with at least the
@@ -134,6 +147,8 @@ struct CameraResult {
   int views_rejected = 0;
   /// With intrinsics refinement (or a camera without intrinsics): the result.
   std::optional<IntrinsicsResult> intrinsics;
+  /// 1σ of T_cam (joint method; absent when the Jacobian is rank deficient).
+  std::optional<PoseUncertainty> sigma;
 };
 
 /// T_camk_camt of a pair of cameras that saw the target at the same pose.
@@ -174,6 +189,8 @@ struct CalibrationResult {
   std::vector<CameraResult> cameras;  ///< dataset order
   /// eye_to_hand: T_ee_target; eye_in_hand: T_base_target.
   Eigen::Isometry3d T_target = Eigen::Isometry3d::Identity();
+  /// 1σ of T_target (joint method).
+  std::optional<PoseUncertainty> target_sigma;
   std::vector<CameraPairResult> camera_pairs;  ///< every pair that shared a pose
   CalibrationMetrics metrics;
   SolverSummary solver;
