@@ -7,6 +7,8 @@
 #include <iostream>
 #include <algorithm>
 #include <memory>
+#include <optional>
+#include <sstream>
 #include <thread>
 
 #include "cli_numbers.h"
@@ -35,6 +37,8 @@ struct CalibrateArgs {
   bool reorthonormalise = false;
   std::string report;  // --report DIR
   std::string refine_intrinsics;  // --refine-intrinsics LIST
+  std::string from;               // --from RESULT
+  std::string keep_cameras;       // --keep-cameras LIST
   std::string observations_out;  // --observations-out FILE
 };
 
@@ -91,6 +95,24 @@ void RunCalibrate(const CalibrateArgs& args) {
     if (!groups) throw InputError("", "", "--refine-intrinsics: " + list_why);
     options.refine_intrinsics = *groups;
   }
+  std::optional<Setup> from_setup;
+  if (!args.keep_cameras.empty() || !args.from.empty()) {
+    if (args.keep_cameras.empty() || args.from.empty())
+      throw InputError("", "", "--keep-cameras and --from go together: the cameras to hold, and the result "
+                               "whose poses they keep");
+    const CalibrationResult previous = LoadResult(args.from);
+    from_setup = previous.setup;
+    std::stringstream list(args.keep_cameras);
+    std::string name;
+    while (std::getline(list, name, ',')) {
+      const auto it = std::find_if(previous.cameras.begin(), previous.cameras.end(),
+                                   [&](const CameraResult& c) { return c.name == name; });
+      if (it == previous.cameras.end() || !it->calibrated)
+        throw InputError(args.from, "/cameras",
+                         "--keep-cameras: a calibrated camera named '" + name + "' in the --from result");
+      options.fixed_cameras[name] = it->T_cam;
+    }
+  }
   options.threads = args.threads > 0 ? args.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::string why;
   if (!options.Check(&why)) throw InputError("", "", "invalid option: " + why);
@@ -102,6 +124,9 @@ void RunCalibrate(const CalibrateArgs& args) {
   std::vector<std::string> warnings;
   Dataset dataset = LoadDataset(args.input, load, &warnings);
   PrintWarnings(warnings);
+  if (from_setup && *from_setup != dataset.setup)
+    throw InputError(args.from, "/setup",
+                     std::string("the dataset's setup, ") + SetupName(dataset.setup) + ", for --from");
   if (dataset.observations.empty()) {
     bool has_images = false;
     for (const auto& pose : dataset.poses) has_images = has_images || !pose.images.empty();
@@ -168,6 +193,11 @@ void RegisterCalibrate(CLI::App& app) {
   cmd->add_option("--refine-intrinsics", args->refine_intrinsics,
                   "joint: make these intrinsics of every camera unknowns of the solve: focal, "
                   "principal_point, distortion (comma-separated) or all");
+  cmd->add_option("--from", args->from,
+                  "an earlier result (handeye-result/1) whose camera poses --keep-cameras holds");
+  cmd->add_option("--keep-cameras", args->keep_cameras,
+                  "joint: hold these cameras (comma-separated) at their --from poses and solve only the "
+                  "others, e.g. after `handeye check` found them moved");
   cmd->add_flag("--no-cross-terms", args->no_cross_terms, "joint: leave out the camera-to-camera terms");
   cmd->add_option("--threads", args->threads, "threads for detection and the solver (0 = all cores)")
       ->check(ThreadCount());

@@ -33,6 +33,12 @@ std::function<void(std::size_t, std::size_t)> ProgressLine(const std::string& wh
 /// Adds `--quiet` (no progress line) to a subcommand.
 void AddQuietFlag(CLI::App* cmd, bool* quiet);
 
+/// Thrown by a subcommand that finished its work but must end with a
+/// non-zero status that is not an error (`check`: 4, a camera moved).
+struct ExitStatus {
+  int code = 0;
+};
+
 /// Prints each warning on stderr as "warning: ...".
 void PrintWarnings(const std::vector<std::string>& warnings);
 

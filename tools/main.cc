@@ -104,6 +104,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     app.exit(e);
     return 2;
+  } catch (const handeye::tools::ExitStatus& status) {
+    return status.code;
   } catch (const handeye::InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;

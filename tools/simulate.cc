@@ -32,6 +32,8 @@ struct SimulateArgs {
   double pose_noise_mm = 0;
   double pose_noise_deg = 0;
   int swap_poses = 0;
+  std::uint64_t pose_seed = 0;
+  std::string bump_camera;  // NAME:MM:DEG
   bool see_through = false;
   bool visible_only = false;
   bool no_distortion = false;
@@ -75,6 +77,30 @@ SceneOptions MakeSceneOptions(const SimulateArgs& args) {
   options.pose_noise_mm = args.pose_noise_mm;
   options.pose_noise_deg = args.pose_noise_deg;
   options.swap_poses = args.swap_poses;
+  options.pose_seed = args.pose_seed;
+  if (!args.bump_camera.empty()) {
+    const std::string expected = "NAME:MM:DEG (e.g. cam1:5:0.2), got '" + args.bump_camera + "'";
+    const auto first = args.bump_camera.find(':');
+    const auto second = first == std::string::npos ? first : args.bump_camera.find(':', first + 1);
+    if (second == std::string::npos) throw BadOption("--bump-camera", "expected " + expected);
+    options.bumped_camera = args.bump_camera.substr(0, first);
+    try {
+      size_t used = 0;
+      const std::string mm = args.bump_camera.substr(first + 1, second - first - 1);
+      const std::string deg = args.bump_camera.substr(second + 1);
+      options.bump_mm = std::stod(mm, &used);
+      if (used != mm.size()) throw std::invalid_argument(mm);
+      options.bump_deg = std::stod(deg, &used);
+      if (used != deg.size()) throw std::invalid_argument(deg);
+    } catch (const std::exception&) {
+      throw BadOption("--bump-camera", "expected " + expected);
+    }
+    bool known = false;
+    for (int k = 0; k < args.cameras; ++k) known = known || options.bumped_camera == "cam" + std::to_string(k);
+    if (!known || !std::isfinite(options.bump_mm) || !std::isfinite(options.bump_deg))
+      throw BadOption("--bump-camera", "expected a camera cam0 … cam" + std::to_string(args.cameras - 1) +
+                                           " and finite numbers: " + expected);
+  }
   if (!args.image_size.empty()) {
     const auto [w, h] = ParsePair("--image-size", args.image_size, "WIDTHxHEIGHT in pixels");
     options.width = w;
@@ -160,6 +186,13 @@ void RegisterSimulate(CLI::App& app) {
   cmd->add_option("--swap-poses", args->swap_poses,
                   "exchange the robot records of K pairs of poses (a logging fault to test against)")
       ->check(NonNegativeNumber("a non-negative number of pose pairs"));
+  cmd->add_option("--pose-seed", args->pose_seed,
+                  "draw the robot poses from this seed, the cameras and target from --seed: a later "
+                  "capture of the same cell")
+      ->check(UnsignedInteger("a whole number from 0 to 2^64 - 1"));
+  cmd->add_option("--bump-camera", args->bump_camera,
+                  "NAME:MM:DEG: that camera was knocked since calibration: moved MM along its x axis, "
+                  "turned DEG about its y axis (ground_truth.json has the bumped pose)");
   cmd->add_flag("--see-through", args->see_through,
                 "a glass target: cameras behind it see its pattern mirrored (a printed one shows a plain back)");
   cmd->add_flag("--visible-only", args->visible_only,

@@ -275,6 +275,8 @@ bool CalibrationOptions::Check(std::string* why) const {
   if (refine_intrinsics > kAllIntrinsics) return fail("refine_intrinsics: IntrinsicsGroup flags");
   if (refine_intrinsics != kNoIntrinsics && method != Method::kJoint)
     return fail("intrinsics are refined by the joint method only (--method joint)");
+  if (!fixed_cameras.empty() && method != Method::kJoint)
+    return fail("cameras are held at given poses by the joint method only (--method joint)");
   return true;
 }
 
@@ -307,6 +309,9 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     result.notes.push_back(note.str());
   }
   const std::vector<Camera> start_cameras = working.cameras;
+  for (const auto& [name, T_cam] : options.fixed_cameras)
+    if (dataset.CameraIndex(name) < 0)
+      throw InputError("", "/cameras", "a camera named '" + name + "' to hold at its given pose");
 
   Problem problem = internal::BuildProblem(working, options);
   if (options.reject_views) internal::RejectInconsistentMotions(&problem);
@@ -326,6 +331,28 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   if (options.method == Method::kJoint) {
     internal::Initialisation init = internal::InitialiseJoint(problem);
     result.notes.insert(result.notes.end(), init.notes.begin(), init.notes.end());
+    init.fixed_X.assign(num_cameras, false);
+    for (const auto& [name, T_cam] : options.fixed_cameras) {
+      const int k = dataset.CameraIndex(name);
+      if (!init.X[k]) continue;  // no views: nothing to hold
+      init.X[k] = T_cam.inverse();
+      init.fixed_X[k] = true;
+    }
+    if (!options.fixed_cameras.empty()) {
+      // The target transform from the held cameras' views, so the others start consistent.
+      std::vector<Eigen::Isometry3d> Z_estimates;
+      for (size_t k = 0; k < num_cameras; ++k)
+        if (init.fixed_X[k])
+          if (const auto Z = internal::TargetFromCamera(problem, static_cast<int>(k), *init.X[k])) Z_estimates.push_back(*Z);
+      if (!Z_estimates.empty()) {
+        init.Z = internal::MeanTransform(Z_estimates);
+        for (size_t k = 0; k < num_cameras; ++k)
+          if (init.X[k] && !init.fixed_X[k])
+            if (const auto X = internal::CameraFromTarget(problem, static_cast<int>(k), init.Z)) init.X[k] = *X;
+        result.notes.push_back(std::to_string(options.fixed_cameras.size()) +
+                               " camera(s) held at their given poses; the others and the target transform solved");
+      }
+    }
     init.free_intrinsics.resize(num_cameras);
     for (size_t k = 0; k < num_cameras; ++k) {
       const unsigned groups = estimated[k] ? kAllIntrinsics : options.refine_intrinsics;

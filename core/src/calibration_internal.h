@@ -136,6 +136,8 @@ struct Initialisation {
   /// pixel σ that weighs the prior against the reprojection residuals.
   std::vector<Camera> given_cameras;
   double pixel_sigma_px = 1.0;
+  /// Per camera: X_k is held at its start (CalibrationOptions::fixed_cameras).
+  std::vector<bool> fixed_X;
   /// With a robot prior: per pose, the start of its block (empty: the reported pose).
   std::vector<std::optional<Eigen::Isometry3d>> M;
 };

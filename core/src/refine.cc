@@ -138,7 +138,7 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& X, 
   out->Z_covariance.reset();
   std::vector<std::pair<const double*, const double*>> pairs;
   for (double* block : X)
-    if (block) pairs.emplace_back(block, block);
+    if (block && !problem->IsParameterBlockConstant(block)) pairs.emplace_back(block, block);
   pairs.emplace_back(Z, Z);
   for (double* block : K)
     if (block) pairs.emplace_back(block, block);
@@ -164,7 +164,7 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& X, 
   };
   if (ok) {
     for (size_t k = 0; k < X.size(); ++k)
-      if (X[k]) out->X_covariance[k] = pose_covariance(X[k]);
+      if (X[k] && !problem->IsParameterBlockConstant(X[k])) out->X_covariance[k] = pose_covariance(X[k]);
     out->Z_covariance = pose_covariance(Z);
   }
   for (size_t k = 0; k < K.size(); ++k) {
@@ -204,6 +204,7 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
     X[k] = blocks.Add(*init.X[k]);
     ceres_problem.AddParameterBlock(X[k], 7);
     SetPoseManifold(&ceres_problem, X[k]);
+    if (k < init.fixed_X.size() && init.fixed_X[k]) ceres_problem.SetParameterBlockConstant(X[k]);
   }
 
   // Free intrinsics: one block of 18 per camera, the fixed ones held by a subset manifold.

@@ -248,6 +248,10 @@ class SceneBuilder {
       MountRigOnFlange();
       PlaceTargetInCell();
     }
+    BumpCamera();
+    // A later capture of the same cell: the cameras and target of `seed`,
+    // the robot poses (and their noise) of `pose_seed`.
+    if (options_.pose_seed != 0) engine_.seed(options_.pose_seed);
     for (int j = 0; j < options_.num_poses; ++j) AddPose(j);
     AddPoseNoise();
     SwapPoseRecords();
@@ -255,6 +259,19 @@ class SceneBuilder {
   }
 
  private:
+  // A camera knocked after calibration: moved by bump_mm along its own x axis
+  // and turned by bump_deg about its own y axis. The truth is the bumped pose.
+  void BumpCamera() {
+    if (options_.bumped_camera.empty()) return;
+    const auto it = scene_.truth.T_cam.find(options_.bumped_camera);
+    if (it == scene_.truth.T_cam.end())
+      throw std::invalid_argument("MakeScene: no camera '" + options_.bumped_camera + "' to bump");
+    Eigen::Isometry3d bump = Eigen::Isometry3d::Identity();
+    bump.translation() = Eigen::Vector3d(options_.bump_mm / 1000.0, 0.0, 0.0);
+    bump.linear() = Eigen::AngleAxisd(options_.bump_deg * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    it->second = it->second * bump;
+  }
+
   // Intrinsics: fx a few % around the preset's, square-ish pixels, principal
   // point near the centre, mild barrel distortion that stays invertible.
   void MakeCameras() {

@@ -9,6 +9,7 @@
 /// The result reports the inverses users want (T_base_cam / T_ee_cam) and Z.
 
 #include <Eigen/Geometry>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -84,6 +85,10 @@ struct CalibrationOptions {
   /// of the joint solve, started from the given values (joint method only).
   /// Cameras without intrinsics have all of them estimated whatever this says.
   unsigned refine_intrinsics = kNoIntrinsics;
+  /// Cameras held at these poses (name → T_cam: T_base_cam or T_ee_cam), e.g.
+  /// those a `handeye check` found unmoved: only the others are solved, with
+  /// the target transform (joint method only).
+  std::map<std::string, Eigen::Isometry3d> fixed_cameras;
   /// After the solve, check each camera's focal length and principal point
   /// against what its views say, and warn when they disagree (intrinsics not refined).
   bool check_intrinsics = true;

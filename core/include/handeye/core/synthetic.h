@@ -40,6 +40,14 @@ struct SceneOptions {
   /// scene is built (a logging fault: each image then carries another pose's
   /// T_base_ee). The truth keeps the true poses; SyntheticScene lists the pairs.
   int swap_poses = 0;
+  /// Non-zero: the robot poses (and their noise) come from this seed while
+  /// the cameras and the target come from `seed` — a later capture session
+  /// of the same cell.
+  std::uint64_t pose_seed = 0;
+  /// A camera knocked since calibration (empty: none): its true pose is moved
+  /// by bump_mm along its own x axis and turned by bump_deg about its own y axis.
+  std::string bumped_camera;
+  double bump_mm = 0.0, bump_deg = 0.0;
   /// A point counts as visible when it projects at least this far inside the image.
   double border_margin_px = 4.0;
 

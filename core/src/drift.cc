@@ -1,0 +1,151 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// handeye check: each camera's pose from new views, the target transform held.
+#include "handeye/core/drift.h"
+
+#include <ceres/covariance.h>
+#include <ceres/manifold.h>
+#include <ceres/problem.h>
+#include <ceres/product_manifold.h>
+#include <ceres/solver.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "calibration_internal.h"
+#include "handeye/core/cost_functions.h"
+#include "handeye/core/error.h"
+#include "handeye/core/transform.h"
+
+namespace handeye {
+
+bool DriftOptions::Check(std::string* why) const {
+  auto fail = [why](const char* reason) {
+    if (why) *why = reason;
+    return false;
+  };
+  if (!(tolerance_mm > 0) || !std::isfinite(tolerance_mm)) return fail("tolerance_mm must be > 0");
+  if (!(tolerance_deg > 0) || !std::isfinite(tolerance_deg)) return fail("tolerance_deg must be > 0");
+  if (min_views < 1) return fail("min_views must be >= 1");
+  if (threads < 1) return fail("threads must be >= 1");
+  return true;
+}
+
+bool DriftResult::AnyMoved() const {
+  for (const CameraDrift& camera : cameras)
+    if (camera.verdict == "moved") return true;
+  return false;
+}
+
+DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibration, const DriftOptions& options) {
+  using PoseManifold = ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>;
+  std::string why;
+  if (!options.Check(&why)) throw InputError("", "", "invalid check options: " + why);
+  if (input.setup != calibration.setup)
+    throw InputError("", "/setup",
+                     std::string("the result's setup, ") + SetupName(calibration.setup) + "; the dataset is " +
+                         SetupName(input.setup));
+  Dataset dataset = input;
+  for (const CameraResult& cam : calibration.cameras) {
+    const int k = dataset.CameraIndex(cam.name);
+    if (k < 0) throw InputError("", "/cameras", "a camera named '" + cam.name + "' (the result has one)");
+    if (cam.intrinsics) {
+      dataset.cameras[k].params = cam.intrinsics->camera.params;
+      dataset.cameras[k].num_distortion = cam.intrinsics->camera.num_distortion;
+      dataset.cameras[k].has_intrinsics = true;
+    }
+  }
+  CalibrationOptions calibration_options;
+  internal::Problem problem = internal::BuildProblem(dataset, calibration_options);
+  const Eigen::Isometry3d& Z = calibration.T_target;
+
+  DriftResult out;
+  for (const CameraResult& cam : calibration.cameras) {
+    CameraDrift drift;
+    drift.name = cam.name;
+    const int k = dataset.CameraIndex(cam.name);
+    const auto& views = problem.camera_views[k];
+    drift.views = static_cast<int>(views.size());
+    if (!cam.calibrated || drift.views < options.min_views) {
+      drift.verdict = "not seen";
+      out.warnings.push_back("camera '" + cam.name + "': " +
+                             (cam.calibrated ? std::to_string(drift.views) + " usable new views (at least " +
+                                                   std::to_string(options.min_views) + " needed)"
+                                             : std::string("not calibrated in the result")) +
+                             ": not checked");
+      out.cameras.push_back(drift);
+      continue;
+    }
+    // The camera's pose from its new views alone, started at the calibrated one.
+    ceres::Problem::Options problem_options;
+    problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
+    ceres::Problem ceres_problem(problem_options);
+    PoseParams X = ToPoseParams(cam.T_cam.inverse()), Z_params = ToPoseParams(Z);
+    ceres_problem.AddParameterBlock(X.data(), 7, new PoseManifold());
+    ceres_problem.AddParameterBlock(Z_params.data(), 7);
+    ceres_problem.SetParameterBlockConstant(Z_params.data());
+    const double scale = std::max(1.0, 3.0 * internal::DetectionSigmaPx(problem));
+    std::vector<ceres::ResidualBlockId> blocks;
+    for (int v : views) {
+      const internal::View& view = problem.views[v];
+      blocks.push_back(ceres_problem.AddResidualBlock(
+          ViewReprojectionError::Create(dataset.cameras[k], problem.M[view.pose],
+                                        std::make_shared<const ViewPoints>(
+                                            ViewPoints{view.p_target, view.observation->points_px}),
+                                        scale),
+          nullptr, X.data(), Z_params.data()));
+    }
+    ceres::Solver::Options solver;
+    solver.linear_solver_type = ceres::DENSE_QR;
+    solver.max_num_iterations = 100;
+    solver.num_threads = options.threads;
+    solver.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver, &ceres_problem, &summary);
+    const Eigen::Isometry3d X_now = FromPoseParams(X.data());
+    drift.T_cam = X_now.inverse();
+    drift.moved_mm = 1000.0 * (drift.T_cam.translation() - cam.T_cam.translation()).norm();
+    drift.moved_deg = RotationDistance(drift.T_cam.rotation(), cam.T_cam.rotation()) * 180.0 / M_PI;
+    ceres::Covariance::Options covariance_options;
+    covariance_options.algorithm_type = ceres::DENSE_SVD;
+    ceres::Covariance covariance(covariance_options);
+    const std::vector<std::pair<const double*, const double*>> pair = {{X.data(), X.data()}};
+    if (covariance.Compute(pair, &ceres_problem)) {
+      Eigen::Matrix<double, 6, 6, Eigen::RowMajor> C;
+      covariance.GetCovarianceBlockInTangentSpace(X.data(), X.data(), C.data());
+      const int redundancy = ceres_problem.NumResiduals() - 6;
+      const double variance_factor = (redundancy > 0 ? 2.0 * summary.final_cost / redundancy : 1.0) *
+                                     internal::ViewDesignFactor(ceres_problem, blocks);
+      const PoseUncertainty u = internal::UncertaintyOf(X_now, Eigen::Matrix<double, 6, 6>(C) * variance_factor, true);
+      // The difference of two estimates: the new one and the calibration's own.
+      const double calibrated_mm = cam.sigma ? cam.sigma->position_mm : 0.0;
+      const double calibrated_deg = cam.sigma ? cam.sigma->rotation_deg : 0.0;
+      drift.sigma_mm = std::hypot(u.position_mm, calibrated_mm);
+      drift.sigma_deg = std::hypot(u.rotation_deg, calibrated_deg);
+    }
+    // Moved: beyond the tolerance, and by more than the two estimates' noise
+    // (3σ), so that a few noisy views do not call a camera moved.
+    const bool beyond = drift.moved_mm > options.tolerance_mm || drift.moved_deg > options.tolerance_deg;
+    const bool significant = drift.moved_mm > 3.0 * drift.sigma_mm || drift.moved_deg > 3.0 * drift.sigma_deg;
+    drift.verdict = beyond && significant ? "moved" : "ok";
+    if (beyond && !significant) {
+      std::ostringstream w;
+      w.precision(3);
+      w << "camera '" << cam.name << "' seems " << drift.moved_mm << " mm / " << drift.moved_deg
+        << " deg from its calibrated pose, within 3σ of the noise of the check (± " << drift.sigma_mm << " mm / ± "
+        << drift.sigma_deg << " deg): not called moved; take more poses with the target in its view to tell";
+      out.warnings.push_back(w.str());
+    }
+    else if (drift.sigma_mm > 0.5 * options.tolerance_mm || drift.sigma_deg > 0.5 * options.tolerance_deg) {
+      std::ostringstream w;
+      w.precision(3);
+      w << "camera '" << cam.name << "': its " << drift.views << " new views know it to ± " << drift.sigma_mm
+        << " mm / ± " << drift.sigma_deg << " deg, too coarse for the tolerance (" << options.tolerance_mm << " mm, "
+        << options.tolerance_deg << " deg): take more poses with the target in its view";
+      out.warnings.push_back(w.str());
+    }
+    out.cameras.push_back(drift);
+  }
+  return out;
+}
+
+}  // namespace handeye

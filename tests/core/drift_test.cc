@@ -1,0 +1,101 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// handeye check: a camera knocked after calibration is found, the others are
+// cleared; held cameras anchor the recalibration of the moved one.
+#include <catch2/catch.hpp>
+#include <random>
+
+#include "handeye/core/checkerboard.h"
+#include "handeye/core/drift.h"
+#include "handeye/core/error.h"
+#include "handeye/core/synthetic.h"
+#include "handeye/core/transform.h"
+
+using namespace handeye;
+
+namespace {
+
+SyntheticScene Capture(int poses, std::uint64_t pose_seed, const std::string& bumped = "") {
+  SceneOptions options;
+  options.cell = "medium";
+  options.num_cameras = 4;
+  options.num_poses = poses;
+  options.seed = 21;
+  options.pose_seed = pose_seed;
+  options.pose_noise_mm = 0.1;
+  options.pose_noise_deg = 0.01;
+  options.bumped_camera = bumped;
+  options.bump_mm = 5.0;
+  options.bump_deg = 0.2;
+  SyntheticScene scene = MakeScene(options, std::make_shared<const CheckerboardTarget>(7, 4, 0.04));
+  std::mt19937_64 rng(pose_seed * 7 + 1);
+  AddProjectedObservations(&scene, 0.1, &rng);
+  return scene;
+}
+
+}  // namespace
+
+TEST_CASE("A later capture of the same cell keeps its cameras and moves the robot", "[drift]") {
+  const SyntheticScene first = Capture(20, 0), later = Capture(8, 99), bumped = Capture(8, 99, "cam1");
+  for (const auto& [name, T] : first.truth.T_cam) CHECK(later.truth.T_cam.at(name).isApprox(T));
+  CHECK_FALSE(first.truth.poses[0].T_base_ee_true.isApprox(later.truth.poses[0].T_base_ee_true));
+  const Eigen::Isometry3d& a = first.truth.T_cam.at("cam1");
+  const Eigen::Isometry3d& b = bumped.truth.T_cam.at("cam1");
+  CHECK(1000.0 * (a.translation() - b.translation()).norm() == Approx(5.0));
+  CHECK(RotationDistance(a.rotation(), b.rotation()) * 180.0 / M_PI == Approx(0.2));
+}
+
+TEST_CASE("check names the camera that was knocked and clears the others", "[drift]") {
+  const CalibrationResult calibration = Calibrate(Capture(20, 0).dataset, CalibrationOptions{});
+  DriftOptions options;
+  const DriftResult quiet = CheckDrift(Capture(8, 99).dataset, calibration, options);
+  CHECK_FALSE(quiet.AnyMoved());
+  for (const CameraDrift& c : quiet.cameras) {
+    INFO(c.name << " " << c.moved_mm << " ± " << c.sigma_mm << " mm " << c.moved_deg << " ± " << c.sigma_deg << " deg, " << c.views << " views");
+    CHECK(c.verdict == "ok");
+    // 3 views of 8 noisy poses tell a camera's pose to ≈ 0.5 mm, the
+    // calibration to ≈ 0.7: an unmoved camera is within 3σ of both.
+    CHECK(c.moved_mm < 3.0 * c.sigma_mm);
+    CHECK(c.sigma_mm > 0.0);
+  }
+  const DriftResult knocked = CheckDrift(Capture(8, 99, "cam1").dataset, calibration, options);
+  CHECK(knocked.AnyMoved());
+  for (const CameraDrift& c : knocked.cameras) {
+    INFO(c.name << " " << c.moved_mm << " mm " << c.moved_deg << " deg");
+    if (c.name == "cam1") {
+      CHECK(c.verdict == "moved");
+      CHECK(c.moved_mm > 4.0);
+      CHECK(c.moved_mm < 6.0);
+      CHECK(c.moved_deg == Approx(0.2).margin(0.03));
+    } else {
+      CHECK(c.verdict == "ok");
+      CHECK(c.moved_mm < 3.0 * c.sigma_mm);
+    }
+  }
+
+  // Recalibrating with the three unmoved cameras held finds cam1's new pose.
+  CalibrationOptions keep;
+  for (const CameraResult& c : calibration.cameras)
+    if (c.name != "cam1") keep.fixed_cameras[c.name] = c.T_cam;
+  const SyntheticScene bumped = Capture(8, 99, "cam1");
+  const CalibrationResult again = Calibrate(bumped.dataset, keep);
+  for (const CameraResult& c : again.cameras) {
+    const double e_mm = 1000.0 * (c.T_cam.translation() - bumped.truth.T_cam.at(c.name).translation()).norm();
+    INFO(c.name << " " << e_mm << " mm from the truth");
+    CHECK(e_mm < 1.0);
+    if (c.name != "cam1") CHECK(c.T_cam.isApprox(keep.fixed_cameras.at(c.name)));
+  }
+}
+
+TEST_CASE("check rejects a result of another cell and a camera without new views", "[drift]") {
+  const CalibrationResult calibration = Calibrate(Capture(20, 0).dataset, CalibrationOptions{});
+  Dataset later = Capture(8, 99).dataset;
+  std::vector<Observation> without_cam2;
+  for (const Observation& obs : later.observations)
+    if (obs.camera != "cam2") without_cam2.push_back(obs);
+  later.observations = without_cam2;
+  const DriftResult drift = CheckDrift(later, calibration, DriftOptions{});
+  CHECK(drift.cameras[2].verdict == "not seen");
+  CHECK_FALSE(drift.AnyMoved());
+  later.setup = Setup::kEyeInHand;
+  CHECK_THROWS_AS(CheckDrift(later, calibration, DriftOptions{}), InputError);
+}
