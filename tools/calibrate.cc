@@ -39,6 +39,7 @@ struct CalibrateArgs {
   std::string refine_intrinsics;  // --refine-intrinsics LIST
   std::string from;               // --from RESULT
   std::string keep_cameras;       // --keep-cameras LIST
+  bool cross_validate = false;
   std::string observations_out;  // --observations-out FILE
 };
 
@@ -67,6 +68,11 @@ void PrintSummary(const CalibrationResult& result) {
   std::printf("rms %.3f px, AX=ZB %.3f mm / %.4f deg, %d iterations, %.3f s\n", result.metrics.rms_px,
               result.metrics.axzb_translation_mm, result.metrics.axzb_rotation_deg, result.solver.iterations,
               result.solver.seconds);
+  for (const CameraResult& cam : result.cameras)
+    if (cam.cross_validation)
+      std::printf("%-12s held out: RMS %.3f px over %d poses; pose spread over the folds %.3f mm / %.4f deg\n",
+                  cam.name.c_str(), cam.cross_validation->held_out_rms_px, cam.cross_validation->folds,
+                  cam.cross_validation->position_spread_mm, cam.cross_validation->rotation_spread_deg);
   int left_out = 0;
   for (const ViewResult& view : result.views) left_out += view.used ? 0 : 1;
   if (result.solver.cauchy_scale_px > 0)
@@ -113,6 +119,7 @@ void RunCalibrate(const CalibrateArgs& args) {
       options.fixed_cameras[name] = it->T_cam;
     }
   }
+  options.cross_validate = args.cross_validate;
   options.threads = args.threads > 0 ? args.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::string why;
   if (!options.Check(&why)) throw InputError("", "", "invalid option: " + why);
@@ -198,6 +205,9 @@ void RegisterCalibrate(CLI::App& app) {
   cmd->add_option("--keep-cameras", args->keep_cameras,
                   "joint: hold these cameras (comma-separated) at their --from poses and solve only the "
                   "others, e.g. after `handeye check` found them moved");
+  cmd->add_flag("--cross-validate", args->cross_validate,
+                "joint: leave each robot pose out in turn, solve again and predict its views: held-out RMS "
+                "and the spread of each camera's pose over the folds (one solve per pose)");
   cmd->add_flag("--no-cross-terms", args->no_cross_terms, "joint: leave out the camera-to-camera terms");
   cmd->add_option("--threads", args->threads, "threads for detection and the solver (0 = all cores)")
       ->check(ThreadCount());

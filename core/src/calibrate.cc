@@ -154,6 +154,57 @@ internal::Refinement RobustSolve(Problem* problem, const CalibrationOptions& opt
   return refined;
 }
 
+/// Leave-one-pose-out: for each robot pose with used views, the joint solve
+/// without them (from the solution), its prediction of their points, and how
+/// far each camera moved from the full solve.
+void CrossValidate(const Problem& problem, const internal::Initialisation& init, const CalibrationOptions& options,
+                   const std::optional<internal::RobotPrior>& robot,
+                   std::vector<CameraResult::CrossValidation>* out) {
+  const size_t n = problem.camera_views.size();
+  out->assign(n, {});
+  std::vector<double> sq(n, 0.0), moved_sq(n, 0.0), turned_sq(n, 0.0);
+  std::vector<int> points(n, 0), solves(n, 0);
+  std::vector<std::vector<int>> views_at_pose(problem.M.size());
+  for (size_t v = 0; v < problem.views.size(); ++v)
+    if (problem.views[v].used) views_at_pose[problem.views[v].pose].push_back(static_cast<int>(v));
+  for (size_t j = 0; j < views_at_pose.size(); ++j) {
+    if (views_at_pose[j].empty()) continue;
+    Problem fold = problem;
+    for (int v : views_at_pose[j]) fold.views[v].used = false;
+    internal::IndexUsedViews(&fold);
+    internal::Refinement r;
+    try {
+      r = internal::RefineJoint(fold, init, options, robot);
+    } catch (const SolveError&) {
+      continue;  // a fold that cannot be solved tells nothing about the others
+    }
+    for (int v : views_at_pose[j]) {
+      const View& view = problem.views[v];
+      if (!r.X[view.camera]) continue;
+      for (double e : internal::ViewErrors(problem, view, *r.X[view.camera], r.Z[0])) {
+        sq[view.camera] += e * e;
+        ++points[view.camera];
+      }
+      ++(*out)[view.camera].folds;
+    }
+    for (size_t k = 0; k < n; ++k) {
+      if (!r.X[k] || !init.X[k]) continue;
+      const Eigen::Isometry3d a = r.X[k]->inverse(), b = init.X[k]->inverse();
+      moved_sq[k] += (a.translation() - b.translation()).squaredNorm();
+      turned_sq[k] += std::pow(RotationDistance(a.rotation(), b.rotation()), 2);
+      ++solves[k];
+    }
+  }
+  for (size_t k = 0; k < n; ++k) {
+    auto& c = (*out)[k];
+    if (points[k]) c.held_out_rms_px = std::sqrt(sq[k] / points[k]);
+    if (solves[k]) {
+      c.position_spread_mm = 1000.0 * std::sqrt(moved_sq[k] / solves[k]);
+      c.rotation_spread_deg = kRadToDeg * std::sqrt(turned_sq[k] / solves[k]);
+    }
+  }
+}
+
 void FillResult(const Problem& problem, const Estimate& est, const CalibrationOptions& options,
                 CalibrationResult* result) {
   const Dataset& dataset = *problem.dataset;
@@ -328,6 +379,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   std::map<size_t, IntrinsicsResult> refined_intrinsics;
   std::optional<internal::RobotPrior> robot_model;  // the joint solve's, when it modelled the robot's error
   std::map<size_t, PoseUncertainty> camera_sigma;
+  std::vector<CameraResult::CrossValidation> camera_validation;
   if (options.method == Method::kJoint) {
     internal::Initialisation init = internal::InitialiseJoint(problem);
     result.notes.insert(result.notes.end(), init.notes.begin(), init.notes.end());
@@ -430,6 +482,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     final_options.cauchy_scale_px = refined.summary.cauchy_scale_px;
     const internal::Refinement covariance =
         internal::RefineJoint(problem, init, final_options, robot, internal::JointStep::kCovariance);
+    if (options.cross_validate) CrossValidate(problem, init, final_options, robot, &camera_validation);
     for (size_t k = 0; k < num_cameras; ++k)
       if (est.X[k] && covariance.X_covariance[k])
         camera_sigma[k] = internal::UncertaintyOf(*est.X[k], *covariance.X_covariance[k], true);
@@ -551,6 +604,8 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   FillResult(problem, est, options, &result);
   for (auto& [k, intrinsics] : refined_intrinsics) result.cameras[k].intrinsics = intrinsics;
   for (auto& [k, sigma] : camera_sigma) result.cameras[k].sigma = sigma;
+  for (size_t k = 0; k < camera_validation.size(); ++k)
+    if (camera_validation[k].folds > 0) result.cameras[k].cross_validation = camera_validation[k];
   if (options.check_intrinsics) {
     // Focal length and principal point not refined: do the views agree with them?
     std::vector<unsigned> check(num_cameras, kFocal | kPrincipalPoint);

@@ -115,6 +115,11 @@ void SaveResult(const CalibrationResult& result, const std::string& path) {
       if (cam.own_T_target) c[TargetKey(result.setup)] = JsonFromTransform(*cam.own_T_target);
       c["rms_px"] = cam.rms_px;
       if (cam.sigma) c["sigma"] = SigmaJson(*cam.sigma);
+      if (cam.cross_validation)
+        c["cross_validation"] = {{"folds", cam.cross_validation->folds},
+                                 {"held_out_rms_px", cam.cross_validation->held_out_rms_px},
+                                 {"position_spread_mm", cam.cross_validation->position_spread_mm},
+                                 {"rotation_spread_deg", cam.cross_validation->rotation_spread_deg}};
       if (cam.intrinsics) AddIntrinsics(*cam.intrinsics, &c);
     }
     c["views"] = cam.views;
@@ -191,6 +196,15 @@ CalibrationResult LoadResult(const std::string& path) {
       if (cam.Has(TargetKey(result.setup))) c.own_T_target = cam.Key(TargetKey(result.setup)).Rigid(false);
       if (cam.Has("intrinsics")) c.intrinsics = ReadIntrinsicsResult(cam, name);
       if (cam.Has("sigma")) c.sigma = ReadSigma(cam.Key("sigma"));
+      if (cam.Has("cross_validation")) {
+        const JsonReader cv = cam.Key("cross_validation");
+        CameraResult::CrossValidation v;
+        v.folds = cv.Key("folds").Int(0);
+        v.held_out_rms_px = cv.Key("held_out_rms_px").Number();
+        v.position_spread_mm = cv.Key("position_spread_mm").Number();
+        v.rotation_spread_deg = cv.Key("rotation_spread_deg").Number();
+        c.cross_validation = v;
+      }
     }
     c.views = cam.Key("views").Int(0);
     c.views_rejected = cam.Key("views_rejected").Int(0);

@@ -5,7 +5,11 @@
 // prints the table over more seeds).
 #include <catch2/catch.hpp>
 #include <cstdio>
+#include <map>
+#include <random>
 
+#include "handeye/core/calibration.h"
+#include "handeye/core/checkerboard.h"
 #include "handeye/core/synthetic.h"
 
 using namespace handeye;
@@ -36,4 +40,43 @@ TEST_CASE("The result's sigma covers the true error as a sigma should", "[uncert
   CHECK(position_coverage <= 0.98);
   CHECK(rotation_coverage >= 0.85);
   CHECK(rotation_coverage <= 0.98);
+}
+
+TEST_CASE("Leave-one-pose-out: held-out error and the spread of each camera over the folds", "[uncertainty]") {
+  auto scene_of = [](int poses) {
+    SceneOptions options;
+    options.cell = "medium";
+    options.num_poses = poses;
+    options.seed = 5;
+    options.pose_noise_mm = 0.1;
+    options.pose_noise_deg = 0.01;
+    SyntheticScene scene = MakeScene(options, std::make_shared<const CheckerboardTarget>(7, 4, 0.04));
+    std::mt19937_64 rng(11);
+    AddProjectedObservations(&scene, 0.2, &rng);
+    return scene;
+  };
+  CalibrationOptions options;
+  options.cross_validate = true;
+  std::map<int, double> spread;
+  for (int poses : {10, 30}) {
+    const SyntheticScene scene = scene_of(poses);
+    const CalibrationResult result = Calibrate(scene.dataset, options);
+    double sum = 0;
+    for (const CameraResult& camera : result.cameras) {
+      REQUIRE(camera.cross_validation);
+      INFO(camera.name << ": held out " << camera.cross_validation->held_out_rms_px << " px, in sample "
+                       << camera.rms_px << " px, spread " << camera.cross_validation->position_spread_mm << " mm");
+      CHECK(camera.cross_validation->folds == camera.views);
+      // Predicting a pose the solve did not see is harder than fitting it.
+      CHECK(camera.cross_validation->held_out_rms_px > camera.rms_px);
+      CHECK(camera.cross_validation->held_out_rms_px < 10.0 * camera.rms_px);
+      CHECK(camera.cross_validation->position_spread_mm > 0.0);
+      sum += camera.cross_validation->position_spread_mm;
+    }
+    spread[poses] = sum / result.cameras.size();
+  }
+  std::printf("spread of the camera positions over the folds: 10 poses %.3f mm, 30 poses %.3f mm\n", spread[10],
+              spread[30]);
+  // One pose out of 10 moves the answer more than one of 30.
+  CHECK(spread[10] > spread[30]);
 }

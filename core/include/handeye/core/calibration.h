@@ -89,6 +89,9 @@ struct CalibrationOptions {
   /// those a `handeye check` found unmoved: only the others are solved, with
   /// the target transform (joint method only).
   std::map<std::string, Eigen::Isometry3d> fixed_cameras;
+  /// Held-out validation (joint method): leave each robot pose out in turn,
+  /// solve again from the solution, and predict that pose's views.
+  bool cross_validate = false;
   /// After the solve, check each camera's focal length and principal point
   /// against what its views say, and warn when they disagree (intrinsics not refined).
   bool check_intrinsics = true;
@@ -154,6 +157,14 @@ struct CameraResult {
   std::optional<IntrinsicsResult> intrinsics;
   /// 1σ of T_cam (joint method; absent when the Jacobian is rank deficient).
   std::optional<PoseUncertainty> sigma;
+  /// With CalibrationOptions::cross_validate: leave-one-pose-out figures.
+  struct CrossValidation {
+    int folds = 0;                 ///< poses left out that this camera saw
+    double held_out_rms_px = 0;    ///< RMS of its points at the left-out poses, predicted without them
+    double position_spread_mm = 0; ///< RMS over all folds of the move of its centre from the full solve
+    double rotation_spread_deg = 0;
+  };
+  std::optional<CrossValidation> cross_validation;
 };
 
 /// T_camk_camt of a pair of cameras that saw the target at the same pose.
