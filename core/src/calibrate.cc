@@ -21,17 +21,6 @@ using internal::View;
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 
-struct MethodEntry {
-  Method method;
-  const char* name;
-};
-constexpr MethodEntry kMethods[] = {
-    {Method::kJoint, "joint"},     {Method::kPerCamera, "per-camera"}, {Method::kTsai, "tsai"},
-    {Method::kPark, "park"},       {Method::kHoraud, "horaud"},         {Method::kAndreff, "andreff"},
-    {Method::kDaniilidis, "daniilidis"}, {Method::kShah, "shah"},        {Method::kLi, "li"},
-    {Method::kVisp, "visp"},
-};
-
 // The estimate of camera k: X_k and the Z it uses.
 struct Estimate {
   std::vector<std::optional<Eigen::Isometry3d>> X;
@@ -74,137 +63,6 @@ Estimate PerCameraEstimate(const Problem& problem, const CameraSolve& solve, con
   return est;
 }
 
-double ViewRms(const std::vector<double>& errors, double* max_error) {
-  double sum = 0;
-  *max_error = 0;
-  for (double e : errors) {
-    sum += e * e;
-    *max_error = std::max(*max_error, e);
-  }
-  return errors.empty() ? 0.0 : std::sqrt(sum / errors.size());
-}
-
-// Per camera, the Z its views use.
-internal::TargetPoses TargetPosesOf(const internal::Refinement& refined, size_t num_cameras) {
-  if (refined.Z.size() == num_cameras) return refined.Z;
-  return internal::TargetPoses(num_cameras, refined.Z.front());
-}
-
-/// The nonlinear solve made robust: `solve(scale)` runs one refinement
-/// (warm-started by the caller from the last one). After each solve, views far
-/// outside the robust residual distribution are excluded and the loss scale is
-/// set from the residuals (when not fixed), then it solves again, until
-/// nothing changes (at most a few rounds).
-internal::Refinement RobustSolve(Problem* problem, const CalibrationOptions& options, double first_scale,
-                                 const std::function<internal::Refinement(double scale_px)>& solve,
-                                 std::vector<std::string>* warnings) {
-  constexpr int kMaxRounds = 5;
-  const size_t n = problem->camera_views.size();
-  const bool fixed_scale = options.cauchy_scale_px > 0;
-  double scale = fixed_scale ? options.cauchy_scale_px : first_scale;
-  SolverSummary total;
-  internal::Refinement refined;
-  int used_before = 0;
-  for (const auto& views : problem->camera_views) used_before += static_cast<int>(views.size());
-  for (int round = 1;; ++round) {
-    refined = solve(scale);
-    total.seconds += refined.summary.seconds;
-    total.iterations += refined.summary.iterations;
-    const internal::TargetPoses Z = TargetPosesOf(refined, n);
-    std::vector<int> off;
-    if (options.reject_views && round < kMaxRounds) off = internal::ViewsOffTheSolution(*problem, refined.X, Z);
-    int used = 0;
-    for (const auto& views : problem->camera_views) used += static_cast<int>(views.size());
-    if (3 * static_cast<int>(off.size()) > used_before) {
-      // So many views cannot all be bad records: the model itself (intrinsics,
-      // target size) or the robot poses as a whole are off. Keep them and say so.
-      warnings->push_back(std::to_string(off.size()) + " of " + std::to_string(used) +
-                          " views lie far outside the residuals of the others; they were kept: "
-                          "check the intrinsics, the target's size and the robot pose units");
-      off.clear();
-    }
-    for (int v : off) {
-      internal::View& view = problem->views[v];
-      double max_px = 0;
-      const double rms =
-          ViewRms(internal::ViewErrors(*problem, view, *refined.X[view.camera], Z[view.camera]), &max_px);
-      std::ostringstream why;
-      why.precision(3);
-      why << "it disagrees with the calibration of the other views (RMS " << rms
-          << " px, far outside their residuals): the robot record or the image is off";
-      view.used = false;
-      view.inconsistent = true;
-      view.rejected_because = why.str();
-    }
-    if (!off.empty()) internal::IndexUsedViews(problem);
-    double new_scale = scale;
-    if (!fixed_scale)
-      new_scale = std::max(1.0, 3.0 * internal::ResidualSigmaPx(*problem, refined.X, Z));
-    const bool scale_settled = std::abs(new_scale - scale) <= 0.1 * scale;
-    if ((off.empty() && scale_settled) || round == kMaxRounds) {
-      total.rounds = round;
-      break;
-    }
-    scale = new_scale;
-  }
-  total.converged = refined.summary.converged;
-  total.termination = refined.summary.termination;
-  total.cauchy_scale_px = scale;
-  refined.summary = total;
-  return refined;
-}
-
-/// Leave-one-pose-out: for each robot pose with used views, the joint solve
-/// without them (from the solution), its prediction of their points, and how
-/// far each camera moved from the full solve.
-void CrossValidate(const Problem& problem, const internal::Initialisation& init, const CalibrationOptions& options,
-                   const std::optional<internal::RobotPrior>& robot,
-                   std::vector<CameraResult::CrossValidation>* out) {
-  const size_t n = problem.camera_views.size();
-  out->assign(n, {});
-  std::vector<double> sq(n, 0.0), moved_sq(n, 0.0), turned_sq(n, 0.0);
-  std::vector<int> points(n, 0), solves(n, 0);
-  std::vector<std::vector<int>> views_at_pose(problem.M.size());
-  for (size_t v = 0; v < problem.views.size(); ++v)
-    if (problem.views[v].used) views_at_pose[problem.views[v].pose].push_back(static_cast<int>(v));
-  for (size_t j = 0; j < views_at_pose.size(); ++j) {
-    if (views_at_pose[j].empty()) continue;
-    Problem fold = problem;
-    for (int v : views_at_pose[j]) fold.views[v].used = false;
-    internal::IndexUsedViews(&fold);
-    internal::Refinement r;
-    try {
-      r = internal::RefineJoint(fold, init, options, robot);
-    } catch (const SolveError&) {
-      continue;  // a fold that cannot be solved tells nothing about the others
-    }
-    for (int v : views_at_pose[j]) {
-      const View& view = problem.views[v];
-      if (!r.X[view.camera]) continue;
-      for (double e : internal::ViewErrors(problem, view, *r.X[view.camera], r.Z[0])) {
-        sq[view.camera] += e * e;
-        ++points[view.camera];
-      }
-      ++(*out)[view.camera].folds;
-    }
-    for (size_t k = 0; k < n; ++k) {
-      if (!r.X[k] || !init.X[k]) continue;
-      const Eigen::Isometry3d a = r.X[k]->inverse(), b = init.X[k]->inverse();
-      moved_sq[k] += (a.translation() - b.translation()).squaredNorm();
-      turned_sq[k] += std::pow(RotationDistance(a.rotation(), b.rotation()), 2);
-      ++solves[k];
-    }
-  }
-  for (size_t k = 0; k < n; ++k) {
-    auto& c = (*out)[k];
-    if (points[k]) c.held_out_rms_px = std::sqrt(sq[k] / points[k]);
-    if (solves[k]) {
-      c.position_spread_mm = 1000.0 * std::sqrt(moved_sq[k] / solves[k]);
-      c.rotation_spread_deg = kRadToDeg * std::sqrt(turned_sq[k] / solves[k]);
-    }
-  }
-}
-
 void FillResult(const Problem& problem, const Estimate& est, const CalibrationOptions& options,
                 CalibrationResult* result) {
   const Dataset& dataset = *problem.dataset;
@@ -226,7 +84,7 @@ void FillResult(const Problem& problem, const Estimate& est, const CalibrationOp
     if (X) {
       const Eigen::Isometry3d& Z = est.per_camera_Z ? est.Z[view.camera] : est.shared_Z;
       const auto errors = internal::ViewErrors(problem, view, *X, Z);
-      vr.rms_px = ViewRms(errors, &vr.max_px);
+      vr.rms_px = internal::ViewRms(errors, &vr.max_px);
       vr.outlier = view.used && vr.rms_px > 3.0 * result->solver.cauchy_scale_px;
       if (view.used) {
         for (double e : errors) sq_sum[view.camera] += e * e;
@@ -268,68 +126,6 @@ void FillResult(const Problem& problem, const Estimate& est, const CalibrationOp
 }
 
 }  // namespace
-
-const char* MethodName(Method method) {
-  for (const auto& m : kMethods)
-    if (m.method == method) return m.name;
-  return "unknown";
-}
-
-std::optional<Method> ParseMethod(const std::string& name) {
-  for (const auto& m : kMethods)
-    if (name == m.name) return m.method;
-  return std::nullopt;
-}
-
-std::vector<std::string> MethodNames() {
-  std::vector<std::string> names;
-  for (const auto& m : kMethods) names.push_back(m.name);
-  return names;
-}
-
-std::optional<unsigned> ParseIntrinsicsGroups(const std::string& list, std::string* why) {
-  unsigned groups = kNoIntrinsics;
-  std::stringstream in(list);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    if (item == "focal") groups |= kFocal;
-    else if (item == "principal_point") groups |= kPrincipalPoint;
-    else if (item == "distortion") groups |= kDistortion;
-    else if (item == "all") groups |= kAllIntrinsics;
-    else {
-      if (why) *why = "expected focal, principal_point, distortion or all (comma-separated), got '" + item + "'";
-      return std::nullopt;
-    }
-  }
-  if (groups == kNoIntrinsics) {
-    if (why) *why = "expected focal, principal_point, distortion or all (comma-separated), got nothing";
-    return std::nullopt;
-  }
-  return groups;
-}
-
-bool CalibrationOptions::Check(std::string* why) const {
-  auto fail = [why](const char* reason) {
-    if (why) *why = reason;
-    return false;
-  };
-  if (!(cauchy_scale_px >= 0) || !std::isfinite(cauchy_scale_px))
-    return fail("cauchy_scale_px must be > 0 (or 0: from the data)");
-  if (!std::isfinite(robot_sigma_mm) || !std::isfinite(robot_sigma_deg) ||
-      (robot_sigma_mm < 0) != (robot_sigma_deg < 0) || (robot_sigma_mm == 0) != (robot_sigma_deg == 0))
-    return fail("robot_sigma_mm and robot_sigma_deg: both > 0, both 0 (exact robot) or both < 0 (estimated)");
-  if (!(step_tolerance_mm > 0) || !(step_tolerance_deg > 0))
-    return fail("step tolerances must be > 0");
-  if (!(pnp_max_rms_px > 0) || !std::isfinite(pnp_max_rms_px)) return fail("pnp_max_rms_px must be > 0");
-  if (max_iterations < 1) return fail("max_iterations must be >= 1");
-  if (threads < 1) return fail("threads must be >= 1");
-  if (refine_intrinsics > kAllIntrinsics) return fail("refine_intrinsics: IntrinsicsGroup flags");
-  if (refine_intrinsics != kNoIntrinsics && method != Method::kJoint)
-    return fail("intrinsics are refined by the joint method only (--method joint)");
-  if (!fixed_cameras.empty() && method != Method::kJoint)
-    return fail("cameras are held at given poses by the joint method only (--method joint)");
-  return true;
-}
 
 CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& options) {
   std::string why;
@@ -434,7 +230,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
                                              internal::TargetPoses(dataset.cameras.size(), init.Z)));
     std::optional<internal::RobotPrior> robot;
     bool solved_once = false;
-    const internal::Refinement refined = RobustSolve(
+    const internal::Refinement refined = internal::RobustSolve(
         &problem, options, first_scale,
         [&](double scale) {
           CalibrationOptions round = options;
@@ -482,7 +278,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     final_options.cauchy_scale_px = refined.summary.cauchy_scale_px;
     const internal::Refinement covariance =
         internal::RefineJoint(problem, init, final_options, robot, internal::JointStep::kCovariance);
-    if (options.cross_validate) CrossValidate(problem, init, final_options, robot, &camera_validation);
+    if (options.cross_validate) internal::CrossValidate(problem, init, final_options, robot, &camera_validation);
     for (size_t k = 0; k < num_cameras; ++k)
       if (est.X[k] && covariance.X_covariance[k])
         camera_sigma[k] = internal::UncertaintyOf(*est.X[k], *covariance.X_covariance[k], true);
@@ -545,7 +341,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
         MethodName(options.method), &result.warnings);
     const double first_scale =
         std::max(1.0, 3.0 * internal::ResidualSigmaPx(problem, est.X, est.Z));
-    const internal::Refinement refined = RobustSolve(
+    const internal::Refinement refined = internal::RobustSolve(
         &problem, options, first_scale,
         [&](double scale) {
           CalibrationOptions round = options;

@@ -2,6 +2,7 @@
 #pragma once
 // Internal pieces of the calibration engine, shared by its .cc files.
 
+#include <functional>
 #include <map>
 #include <optional>
 #include <utility>
@@ -255,5 +256,25 @@ std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
                                             const TargetPoses& Z, double cauchy_scale_px,
                                             const std::vector<unsigned>& check,
                                             const std::optional<RobotPrior>& robot);
+
+/// RMS of a view's point errors (pixels), and the largest in *max_error (may be null).
+double ViewRms(const std::vector<double>& errors, double* max_error = nullptr);
+
+/// Per camera, the Z its views use (one shared Z, or one per camera).
+TargetPoses TargetPosesOf(const Refinement& refined, size_t num_cameras);
+
+/// The nonlinear solve made robust: `solve(scale)` runs one refinement
+/// (warm-started by the caller from the last one). After each solve, views far
+/// outside the robust residual distribution are excluded and the loss scale is
+/// set from the residuals (when not fixed), then it solves again, until
+/// nothing changes (at most a few rounds). Warnings go to *warnings.
+Refinement RobustSolve(Problem* problem, const CalibrationOptions& options, double first_scale,
+                       const std::function<Refinement(double scale_px)>& solve, std::vector<std::string>* warnings);
+
+/// Leave-one-pose-out: for each robot pose with used views, the joint solve
+/// without them (from `init`, the solution), its prediction of their points,
+/// and how far each camera moved from the full solve. One entry per camera.
+void CrossValidate(const Problem& problem, const Initialisation& init, const CalibrationOptions& options,
+                   const std::optional<RobotPrior>& robot, std::vector<CameraResult::CrossValidation>* out);
 
 }  // namespace handeye::internal

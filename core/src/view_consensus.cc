@@ -78,12 +78,6 @@ Eigen::Vector3d TargetCentre(const Target& target) {
   return centre / static_cast<double>(std::max<size_t>(1, target.Points().size()));
 }
 
-double Rms(const std::vector<double>& errors) {
-  double sum = 0;
-  for (double e : errors) sum += e * e;
-  return errors.empty() ? 0.0 : std::sqrt(sum / errors.size());
-}
-
 }  // namespace
 
 void IndexUsedViews(Problem* problem) {
@@ -150,7 +144,7 @@ std::vector<int> ViewsOffTheSolution(const Problem& problem,
   for (size_t k = 0; k < n; ++k) {
     if (!X[k]) continue;
     for (int v : problem.camera_views[k]) {
-      rms[v] = Rms(ViewErrors(problem, problem.views[v], *X[k], Z[k]));
+      rms[v] = ViewRms(ViewErrors(problem, problem.views[v], *X[k], Z[k]));
       per_camera[k].push_back(rms[v]);
       all.push_back(rms[v]);
     }
@@ -213,7 +207,7 @@ std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
   std::vector<double> chain_rms, pnp_rms, across_m, angle_rad;
   for (const View& view : problem.views) {
     if (!view.used || !X[view.camera]) continue;
-    chain_rms.push_back(Rms(ViewErrors(problem, view, *X[view.camera], Z[view.camera])));
+    chain_rms.push_back(ViewRms(ViewErrors(problem, view, *X[view.camera], Z[view.camera])));
     pnp_rms.push_back(view.pnp_rms_px);
     const Eigen::Isometry3d chain = *X[view.camera] * problem.M[view.pose] * Z[view.camera];
     // Across the viewing ray PnP locates the target well; along it, poorly.

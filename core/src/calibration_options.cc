@@ -1,0 +1,103 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// The names and checks of CalibrationOptions: methods, intrinsics groups.
+#include <cmath>
+#include <sstream>
+
+#include "handeye/core/calibration.h"
+
+namespace handeye {
+namespace {
+
+struct MethodEntry {
+  Method method;
+  const char* name;
+};
+constexpr MethodEntry kMethods[] = {
+    {Method::kJoint, "joint"},
+    {Method::kPerCamera, "per-camera"},
+    {Method::kTsai, "tsai"},
+    {Method::kPark, "park"},
+    {Method::kHoraud, "horaud"},
+    {Method::kAndreff, "andreff"},
+    {Method::kDaniilidis, "daniilidis"},
+    {Method::kShah, "shah"},
+    {Method::kLi, "li"},
+    {Method::kVisp, "visp"},
+};
+
+}  // namespace
+
+const char* MethodName(Method method) {
+  for (const auto& m : kMethods)
+    if (m.method == method) return m.name;
+  return "unknown";
+}
+
+std::optional<Method> ParseMethod(const std::string& name) {
+  for (const auto& m : kMethods)
+    if (name == m.name) return m.method;
+  return std::nullopt;
+}
+
+std::vector<std::string> MethodNames() {
+  std::vector<std::string> names;
+  for (const auto& m : kMethods) names.push_back(m.name);
+  return names;
+}
+
+std::optional<unsigned> ParseIntrinsicsGroups(const std::string& list, std::string* why) {
+  unsigned groups = kNoIntrinsics;
+  std::stringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (item == "focal")
+      groups |= kFocal;
+    else if (item == "principal_point")
+      groups |= kPrincipalPoint;
+    else if (item == "distortion")
+      groups |= kDistortion;
+    else if (item == "all")
+      groups |= kAllIntrinsics;
+    else {
+      if (why)
+        *why = "expected focal, principal_point, distortion or all (comma-separated), got '" +
+               item + "'";
+      return std::nullopt;
+    }
+  }
+  if (groups == kNoIntrinsics) {
+    if (why)
+      *why = "expected focal, principal_point, distortion or all (comma-separated), got nothing";
+    return std::nullopt;
+  }
+  return groups;
+}
+
+bool CalibrationOptions::Check(std::string* why) const {
+  auto fail = [why](const char* reason) {
+    if (why) *why = reason;
+    return false;
+  };
+  if (!(cauchy_scale_px >= 0) || !std::isfinite(cauchy_scale_px))
+    return fail("cauchy_scale_px must be > 0 (or 0: from the data)");
+  if (!std::isfinite(robot_sigma_mm) || !std::isfinite(robot_sigma_deg) ||
+      (robot_sigma_mm < 0) != (robot_sigma_deg < 0) ||
+      (robot_sigma_mm == 0) != (robot_sigma_deg == 0))
+    return fail(
+        "robot_sigma_mm and robot_sigma_deg: both > 0, both 0 (exact robot) or both < 0 "
+        "(estimated)");
+  if (!(step_tolerance_mm > 0) || !(step_tolerance_deg > 0))
+    return fail("step tolerances must be > 0");
+  if (!(pnp_max_rms_px > 0) || !std::isfinite(pnp_max_rms_px))
+    return fail("pnp_max_rms_px must be > 0");
+  if (max_iterations < 1) return fail("max_iterations must be >= 1");
+  if (threads < 1) return fail("threads must be >= 1");
+  if (refine_intrinsics > kAllIntrinsics) return fail("refine_intrinsics: IntrinsicsGroup flags");
+  if (refine_intrinsics != kNoIntrinsics && method != Method::kJoint)
+    return fail("intrinsics are refined by the joint method only (--method joint)");
+  if (!fixed_cameras.empty() && method != Method::kJoint)
+    return fail("cameras are held at given poses by the joint method only (--method joint)");
+  return true;
+}
+
+}  // namespace handeye

@@ -1,0 +1,142 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// The rounds around the nonlinear solve: solve, exclude the views far off the
+// solution, set the loss scale from the residuals, solve again; and the
+// leave-one-pose-out validation.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "calibration_internal.h"
+#include "handeye/core/error.h"
+#include "handeye/core/transform.h"
+
+namespace handeye::internal {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / M_PI;
+
+}  // namespace
+
+double ViewRms(const std::vector<double>& errors, double* max_error) {
+  double sum = 0, largest = 0;
+  for (double e : errors) {
+    sum += e * e;
+    largest = std::max(largest, e);
+  }
+  if (max_error) *max_error = largest;
+  return errors.empty() ? 0.0 : std::sqrt(sum / errors.size());
+}
+
+TargetPoses TargetPosesOf(const Refinement& refined, size_t num_cameras) {
+  if (refined.Z.size() == num_cameras) return refined.Z;
+  return TargetPoses(num_cameras, refined.Z.front());
+}
+
+Refinement RobustSolve(Problem* problem, const CalibrationOptions& options, double first_scale,
+                       const std::function<Refinement(double scale_px)>& solve,
+                       std::vector<std::string>* warnings) {
+  constexpr int kMaxRounds = 5;
+  const size_t n = problem->camera_views.size();
+  const bool fixed_scale = options.cauchy_scale_px > 0;
+  double scale = fixed_scale ? options.cauchy_scale_px : first_scale;
+  SolverSummary total;
+  Refinement refined;
+  int used_before = 0;
+  for (const auto& views : problem->camera_views) used_before += static_cast<int>(views.size());
+  for (int round = 1;; ++round) {
+    refined = solve(scale);
+    total.seconds += refined.summary.seconds;
+    total.iterations += refined.summary.iterations;
+    const TargetPoses Z = TargetPosesOf(refined, n);
+    std::vector<int> off;
+    if (options.reject_views && round < kMaxRounds)
+      off = ViewsOffTheSolution(*problem, refined.X, Z);
+    int used = 0;
+    for (const auto& views : problem->camera_views) used += static_cast<int>(views.size());
+    if (3 * static_cast<int>(off.size()) > used_before) {
+      // So many views cannot all be bad records: the model itself (intrinsics,
+      // target size) or the robot poses as a whole are off. Keep them and say so.
+      warnings->push_back(std::to_string(off.size()) + " of " + std::to_string(used) +
+                          " views lie far outside the residuals of the others; they were kept: "
+                          "check the intrinsics, the target's size and the robot pose units");
+      off.clear();
+    }
+    for (int v : off) {
+      View& view = problem->views[v];
+      double max_px = 0;
+      const double rms =
+          ViewRms(ViewErrors(*problem, view, *refined.X[view.camera], Z[view.camera]), &max_px);
+      std::ostringstream why;
+      why.precision(3);
+      why << "it disagrees with the calibration of the other views (RMS " << rms
+          << " px, far outside their residuals): the robot record or the image is off";
+      view.used = false;
+      view.inconsistent = true;
+      view.rejected_because = why.str();
+    }
+    if (!off.empty()) IndexUsedViews(problem);
+    double new_scale = scale;
+    if (!fixed_scale) new_scale = std::max(1.0, 3.0 * ResidualSigmaPx(*problem, refined.X, Z));
+    const bool scale_settled = std::abs(new_scale - scale) <= 0.1 * scale;
+    if ((off.empty() && scale_settled) || round == kMaxRounds) {
+      total.rounds = round;
+      break;
+    }
+    scale = new_scale;
+  }
+  total.converged = refined.summary.converged;
+  total.termination = refined.summary.termination;
+  total.cauchy_scale_px = scale;
+  refined.summary = total;
+  return refined;
+}
+
+void CrossValidate(const Problem& problem, const Initialisation& init,
+                   const CalibrationOptions& options, const std::optional<RobotPrior>& robot,
+                   std::vector<CameraResult::CrossValidation>* out) {
+  const size_t n = problem.camera_views.size();
+  out->assign(n, {});
+  std::vector<double> sq(n, 0.0), moved_sq(n, 0.0), turned_sq(n, 0.0);
+  std::vector<int> points(n, 0), solves(n, 0);
+  std::vector<std::vector<int>> views_at_pose(problem.M.size());
+  for (size_t v = 0; v < problem.views.size(); ++v)
+    if (problem.views[v].used) views_at_pose[problem.views[v].pose].push_back(static_cast<int>(v));
+  for (size_t j = 0; j < views_at_pose.size(); ++j) {
+    if (views_at_pose[j].empty()) continue;
+    Problem fold = problem;
+    for (int v : views_at_pose[j]) fold.views[v].used = false;
+    IndexUsedViews(&fold);
+    Refinement r;
+    try {
+      r = RefineJoint(fold, init, options, robot);
+    } catch (const SolveError&) {
+      continue;  // a fold that cannot be solved tells nothing about the others
+    }
+    for (int v : views_at_pose[j]) {
+      const View& view = problem.views[v];
+      if (!r.X[view.camera]) continue;
+      for (double e : ViewErrors(problem, view, *r.X[view.camera], r.Z[0])) {
+        sq[view.camera] += e * e;
+        ++points[view.camera];
+      }
+      ++(*out)[view.camera].folds;
+    }
+    for (size_t k = 0; k < n; ++k) {
+      if (!r.X[k] || !init.X[k]) continue;
+      const Eigen::Isometry3d a = r.X[k]->inverse(), b = init.X[k]->inverse();
+      moved_sq[k] += (a.translation() - b.translation()).squaredNorm();
+      turned_sq[k] += std::pow(RotationDistance(a.rotation(), b.rotation()), 2);
+      ++solves[k];
+    }
+  }
+  for (size_t k = 0; k < n; ++k) {
+    auto& c = (*out)[k];
+    if (points[k]) c.held_out_rms_px = std::sqrt(sq[k] / points[k]);
+    if (solves[k]) {
+      c.position_spread_mm = 1000.0 * std::sqrt(moved_sq[k] / solves[k]);
+      c.rotation_spread_deg = kRadToDeg * std::sqrt(turned_sq[k] / solves[k]);
+    }
+  }
+}
+
+}  // namespace handeye::internal
