@@ -116,8 +116,22 @@ TEST_CASE("YAML: errors name the file and the line", "[io][yaml]") {
   require_error("outer:\n  a: 1\n  a: 2\n", "bad.yaml: at /outer: line 3, column 3: duplicate key 'a'");
   require_error("a: 1\n   b: 2\n", "line 2");
   require_error("a: [1, 2\n", "line 2");
-  require_error("a: 1\n---\nb: 2\n", "line 3, column 1: a second YAML document");
+  require_error("a: 1\n---\nb: 2\n", "line 2, column 1: a second YAML document");
+  // fuzz/run: yaml-cpp's LoadAll ran out of memory on this (intrinsics_kalibr).
+  require_error(",am0:\n  ccm0a:\nam0:\n", "line 1, column 1: not readable as YAML (the parser gets no further)");
   require_error("? [1, 2]\n: x\n", "line 1, column 3: expected a plain key, got a collection");
+  // Aliases that make a cycle, and anchors that expand to 10^9 values.
+  require_error("a: &a {x: *a}\n", "nested more than 64 levels deep (an alias inside its own anchor?)");
+  std::string laughs = "l0: &l0 [1, 1, 1, 1, 1, 1, 1, 1, 1, 1]\n";
+  for (int i = 1; i < 9; ++i)
+    laughs += "l" + std::to_string(i) + ": &l" + std::to_string(i) + " [" +
+              [&] {
+                std::string refs;
+                for (int k = 0; k < 10; ++k) refs += (k ? ", *l" : "*l") + std::to_string(i - 1);
+                return refs;
+              }() +
+              "]\n";
+  require_error(laughs, "more than 1000000 values once aliases are expanded");
   CHECK_THROWS_WITH(ReadYamlFile("/nonexistent/x.yaml"), Contains("/nonexistent/x.yaml: file does not exist"));
 }
 
