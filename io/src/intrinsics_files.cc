@@ -105,6 +105,11 @@ FileIntrinsics ReadOpenCv(const std::string& path) {
     throw InputError(path, "", "not an OpenCV FileStorage file (YAML, XML or JSON): " + e.msg);
   }
   if (!fs.isOpened()) throw InputError(path, "", "not an OpenCV FileStorage file (YAML, XML or JSON)");
+  // FileStorage's operator[] asserts (cv::Exception) on a root that is not a
+  // mapping (found by fuzz/run).
+  if (!fs.root().isMap())
+    throw InputError(path, "",
+                     "expected an OpenCV FileStorage mapping with camera_matrix and distortion_coefficients");
 
   FileIntrinsics out;
   const cv::Mat K = ReadMatrixNode(fs, "camera_matrix", path);

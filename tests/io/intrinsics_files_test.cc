@@ -225,6 +225,16 @@ TEST_CASE("OpenCV FileStorage: a matrix header that lies is refused before OpenC
                      "expected an opencv-matrix (rows, cols, dt, data) of at most 64 x 64 single-channel values, "
                      "with rows x cols of them in data");
   }
+  // Another one: a root that is not a mapping made OpenCV assert.
+  RequireFileError((std::filesystem::path(__FILE__).parent_path() / "fuzz_findings/opencv_root_not_a_map.yaml").string(),
+                   IntrinsicsFileFormat::kOpenCv, "", "",
+                   "expected an OpenCV FileStorage mapping with camera_matrix and distortion_coefficients");
+  test::WriteText(dir + "/list.yml", "%YAML:1.0\n- 1\n- 2\n");
+  RequireFileError(dir + "/list.yml", IntrinsicsFileFormat::kOpenCv, "", "",
+                   "expected an OpenCV FileStorage mapping");
+  // And one for the Kalibr reader: yaml-cpp's LoadAll never returned.
+  RequireFileError((std::filesystem::path(__FILE__).parent_path() / "fuzz_findings/kalibr_yaml_no_progress.yaml").string(),
+                   IntrinsicsFileFormat::kKalibr, "cam0", "", "not readable as YAML (the parser gets no further)");
   // The input fuzz/run saved, as it was.
   const std::string finding =
       (std::filesystem::path(__FILE__).parent_path() / "fuzz_findings/intrinsics_opencv_huge_cols.yaml").string();
