@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Speed, memory and accuracy of the whole pipeline on one rendered dataset
 // (default: METRIC's synthetic medium cell, 4 cameras × 251 poses at
-// 1920×1080): detect, solve and report separately at 1 and 2 threads, then
-// the full `handeye calibrate` from images as a separate process.
+// 1920×1080): detect, solve and report separately at 1 and 2 threads, the
+// detection time per image with and without the target, then the full
+// `handeye calibrate` from images as a separate process.
 //
 //   bench_pipeline --handeye build/tools/handeye --workdir /tmp/handeye-bench
 #include <spawn.h>
@@ -146,6 +147,25 @@ int main(int argc, char** argv) {
     json["stages"][t] = {{"detect_s", detect_s}, {"solve_s", solve_s}, {"report_s", report_s}};
     last_result = result;
     last_dataset = std::move(dataset);
+  }
+
+  // Images with and without the target apart: on a camera network most
+  // images show no target, and they cost differently. One thread, each image
+  // on the process's CPU clock.
+  {
+    Dataset timed = LoadDataset(data + "/dataset.json");
+    const std::vector<ImageTiming> timings = DetectTimed(&timed);
+    for (const bool found : {true, false}) {
+      const ClassTiming c = SummariseTimings(timings, found);
+      const double per_second = c.mean_ms > 0 ? 1000.0 / c.mean_ms : 0.0;
+      table.Add({found ? "detect: images with the target" : "detect: images without it", "1", "", "",
+                 Format("%d images, %.1f ms CPU each (median %.1f, max %.1f; decode %.1f), %.0f images/s",
+                        c.images, c.mean_ms, c.median_ms, c.max_ms, c.mean_load_ms, per_second)});
+      json["per_image"][found ? "with_target" : "without_target"] = {
+          {"images", c.images},       {"mean_cpu_ms", c.mean_ms}, {"median_cpu_ms", c.median_ms},
+          {"max_cpu_ms", c.max_ms},   {"decode_cpu_ms", c.mean_load_ms},
+          {"images_per_s", per_second}};
+    }
   }
 
   const ProcessRun full = RunProcess({handeye, "calibrate", data + "/dataset.json", "-o", workdir + "/result.json"});

@@ -34,7 +34,17 @@ struct CalibrateArgs {
   int threads = 0;
   bool reorthonormalise = false;
   std::string report;  // --report DIR
+  std::string refine_intrinsics;  // --refine-intrinsics LIST
+  std::string observations_out;  // --observations-out FILE
 };
+
+// Fails on an output whose folder does not exist before minutes of detection.
+void CheckWritable(const std::string& path, const std::string& flag) {
+  const std::filesystem::path out(path);
+  std::error_code ec;
+  if (!std::filesystem::is_directory(out.has_parent_path() ? out.parent_path() : ".", ec))
+    throw InputError(path, "", (flag.empty() ? "" : flag + ": ") + "cannot write: its folder does not exist");
+}
 
 void PrintSummary(const CalibrationResult& result) {
   const bool eye_to_hand = result.setup == Setup::kEyeToHand;
@@ -75,13 +85,17 @@ void RunCalibrate(const CalibrateArgs& args) {
   options.reject_views = !args.keep_all_views;
   options.robot_sigma_mm = args.robot_sigma_mm;
   options.robot_sigma_deg = args.robot_sigma_deg;
+  if (!args.refine_intrinsics.empty()) {
+    std::string list_why;
+    const auto groups = ParseIntrinsicsGroups(args.refine_intrinsics, &list_why);
+    if (!groups) throw InputError("", "", "--refine-intrinsics: " + list_why);
+    options.refine_intrinsics = *groups;
+  }
   options.threads = args.threads > 0 ? args.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::string why;
   if (!options.Check(&why)) throw InputError("", "", "invalid option: " + why);
-  const std::filesystem::path out(args.output);
-  std::error_code ec;
-  if (!std::filesystem::is_directory(out.has_parent_path() ? out.parent_path() : ".", ec))
-    throw InputError(args.output, "", "cannot write: its folder does not exist");
+  CheckWritable(args.output, "");
+  if (!args.observations_out.empty()) CheckWritable(args.observations_out, "--observations-out");
 
   LoadOptions load;
   load.reorthonormalise = args.reorthonormalise;
@@ -97,6 +111,12 @@ void RunCalibrate(const CalibrateArgs& args) {
     detect.threads = args.threads;
     detect.progress = ProgressLine("detecting", args.quiet);
     DetectAll(&dataset, detect);
+  }
+  if (!args.observations_out.empty()) {
+    // Before the solve, so that a calibration that fails (or is rerun with
+    // other options) need not detect again.
+    SaveObservations(dataset, args.observations_out);
+    std::fprintf(stderr, "wrote %s (%zu views)\n", args.observations_out.c_str(), dataset.observations.size());
   }
   CalibrationResult result;
   try {
@@ -145,6 +165,9 @@ void RegisterCalibrate(CLI::App& app) {
       ->check(NonNegativeNumber("a non-negative sigma in degrees"));
   cmd->add_flag("--keep-all-views", args->keep_all_views,
                 "use every view with a plane pose, even those that disagree with the others");
+  cmd->add_option("--refine-intrinsics", args->refine_intrinsics,
+                  "joint: make these intrinsics of every camera unknowns of the solve: focal, "
+                  "principal_point, distortion (comma-separated) or all");
   cmd->add_flag("--no-cross-terms", args->no_cross_terms, "joint: leave out the camera-to-camera terms");
   cmd->add_option("--threads", args->threads, "threads for detection and the solver (0 = all cores)")
       ->check(ThreadCount());
@@ -152,6 +175,10 @@ void RegisterCalibrate(CLI::App& app) {
                 "replace slightly non-orthonormal robot rotations by the nearest rotation");
   cmd->add_option("--report", args->report,
                   "also write the HTML report and overlays into this folder");
+  cmd->add_option("--observations-out", args->observations_out,
+                  "also write the observations calibrated from (handeye-observations/1, as `detect -o` "
+                  "writes: detected from the images, or as read), for `calibrate` or `report` without "
+                  "detecting again");
   AddQuietFlag(cmd, &args->quiet);
   cmd->callback([args]() { RunCalibrate(*args); });
 }

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <functional>
 #include <cmath>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -39,9 +40,15 @@ struct Estimate {
   bool per_camera_Z = false;
 };
 
-// Per-camera methods: a closed form (or per-camera refinement) on every
-// camera that has the views for it; the others are reported, not fatal.
-Estimate PerCameraEstimate(const Problem& problem, Method closed_form, std::vector<std::string>* warnings) {
+// One camera's closed-form (X_k, Z_k), or nullopt with the reason.
+using CameraSolve = std::function<std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>>(
+    int camera, std::string* why)>;
+
+// Per-camera methods: a closed form (`solve`, named `method_name` in
+// warnings) on every camera that has the views for it; the others are
+// reported, not fatal.
+Estimate PerCameraEstimate(const Problem& problem, const CameraSolve& solve, const std::string& method_name,
+                           std::vector<std::string>* warnings) {
   const size_t n = problem.camera_views.size();
   Estimate est;
   est.X.resize(n);
@@ -51,10 +58,10 @@ Estimate PerCameraEstimate(const Problem& problem, Method closed_form, std::vect
   for (size_t k = 0; k < n; ++k) {
     if (problem.camera_views[k].empty()) continue;
     std::string why;
-    const auto solved = internal::ClosedFormHandEye(problem, static_cast<int>(k), closed_form, &why);
+    const auto solved = solve(static_cast<int>(k), &why);
     if (!solved) {
       warnings->push_back("camera '" + problem.dataset->cameras[k].name + "' not calibrated by " +
-                          MethodName(closed_form) + ": " + why);
+                          method_name + ": " + why);
       continue;
     }
     est.X[k] = solved->first;
@@ -62,8 +69,7 @@ Estimate PerCameraEstimate(const Problem& problem, Method closed_form, std::vect
     solved_Z.push_back(solved->second);
   }
   if (solved_Z.empty())
-    throw SolveError(std::string("method '") + MethodName(closed_form) +
-                     "' could not calibrate any camera (see warnings)");
+    throw SolveError("method '" + method_name + "' could not calibrate any camera (see warnings)");
   est.shared_Z = internal::MeanTransform(solved_Z);
   return est;
 }
@@ -119,12 +125,9 @@ internal::Refinement RobustSolve(Problem* problem, const CalibrationOptions& opt
     }
     for (int v : off) {
       internal::View& view = problem->views[v];
-      const double rms = [&] {
-        double sum = 0;
-        const auto e = internal::ViewErrors(*problem, view, *refined.X[view.camera], Z[view.camera]);
-        for (double x : e) sum += x * x;
-        return std::sqrt(sum / e.size());
-      }();
+      double max_px = 0;
+      const double rms =
+          ViewRms(internal::ViewErrors(*problem, view, *refined.X[view.camera], Z[view.camera]), &max_px);
       std::ostringstream why;
       why.precision(3);
       why << "it disagrees with the calibration of the other views (RMS " << rms
@@ -233,6 +236,27 @@ std::vector<std::string> MethodNames() {
   return names;
 }
 
+std::optional<unsigned> ParseIntrinsicsGroups(const std::string& list, std::string* why) {
+  unsigned groups = kNoIntrinsics;
+  std::stringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (item == "focal") groups |= kFocal;
+    else if (item == "principal_point") groups |= kPrincipalPoint;
+    else if (item == "distortion") groups |= kDistortion;
+    else if (item == "all") groups |= kAllIntrinsics;
+    else {
+      if (why) *why = "expected focal, principal_point, distortion or all (comma-separated), got '" + item + "'";
+      return std::nullopt;
+    }
+  }
+  if (groups == kNoIntrinsics) {
+    if (why) *why = "expected focal, principal_point, distortion or all (comma-separated), got nothing";
+    return std::nullopt;
+  }
+  return groups;
+}
+
 bool CalibrationOptions::Check(std::string* why) const {
   auto fail = [why](const char* reason) {
     if (why) *why = reason;
@@ -248,6 +272,9 @@ bool CalibrationOptions::Check(std::string* why) const {
   if (!(pnp_max_rms_px > 0) || !std::isfinite(pnp_max_rms_px)) return fail("pnp_max_rms_px must be > 0");
   if (max_iterations < 1) return fail("max_iterations must be >= 1");
   if (threads < 1) return fail("threads must be >= 1");
+  if (refine_intrinsics > kAllIntrinsics) return fail("refine_intrinsics: IntrinsicsGroup flags");
+  if (refine_intrinsics != kNoIntrinsics && method != Method::kJoint)
+    return fail("intrinsics are refined by the joint method only (--method joint)");
   return true;
 }
 
@@ -259,7 +286,29 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   result.setup = dataset.setup;
   result.method = options.method;
 
-  Problem problem = internal::BuildProblem(dataset, options);
+  // The cameras as the solver sees them: intrinsics estimated where the
+  // dataset gives none, and refined by the joint solve where asked.
+  Dataset working = dataset;
+  const size_t num_cameras = dataset.cameras.size();
+  std::vector<bool> estimated(num_cameras, false);
+  for (size_t k = 0; k < num_cameras; ++k) {
+    if (working.cameras[k].has_intrinsics) continue;
+    if (options.method != Method::kJoint)
+      throw InputError("", "/cameras/" + std::to_string(k) + "/intrinsics",
+                       "intrinsics for camera '" + dataset.cameras[k].name +
+                           "': only --method joint estimates them from the views");
+    working.cameras[k] = internal::EstimateIntrinsics(working, static_cast<int>(k));
+    estimated[k] = true;
+    std::ostringstream note;
+    note.precision(5);
+    note << "camera '" << dataset.cameras[k].name << "' has no intrinsics: started from fx, fy, cx, cy = "
+         << working.cameras[k].fx() << ", " << working.cameras[k].fy() << ", " << working.cameras[k].cx() << ", "
+         << working.cameras[k].cy() << " estimated from its views, refined in the joint solve";
+    result.notes.push_back(note.str());
+  }
+  const std::vector<Camera> start_cameras = working.cameras;
+
+  Problem problem = internal::BuildProblem(working, options);
   if (options.reject_views) internal::RejectInconsistentMotions(&problem);
   int used_views = 0;
   for (const View& view : problem.views) used_views += view.used ? 1 : 0;
@@ -270,9 +319,33 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   internal::CheckMotionDiversity(problem);
 
   Estimate est;
+  std::vector<std::vector<int>> undetermined(num_cameras);
+  std::map<size_t, IntrinsicsResult> refined_intrinsics;
+  std::optional<internal::RobotPrior> robot_model;  // the joint solve's, when it modelled the robot's error
   if (options.method == Method::kJoint) {
     internal::Initialisation init = internal::InitialiseJoint(problem);
     result.notes.insert(result.notes.end(), init.notes.begin(), init.notes.end());
+    init.free_intrinsics.resize(num_cameras);
+    for (size_t k = 0; k < num_cameras; ++k) {
+      const unsigned groups = estimated[k] ? kAllIntrinsics : options.refine_intrinsics;
+      if (groups & kDistortion && working.cameras[k].num_distortion == 0) working.cameras[k].num_distortion = 5;
+      init.free_intrinsics[k] = internal::FreeIntrinsics(working.cameras[k], groups);
+    }
+    init.given_cameras = start_cameras;
+    init.pixel_sigma_px = internal::DetectionSigmaPx(problem);
+    // One joint solve (with the intrinsics under their prior), then PnP again
+    // with the refined intrinsics.
+    auto refine = [&](const CalibrationOptions& round, const std::optional<internal::RobotPrior>& robot) {
+      internal::Refinement r = internal::RefineJoint(problem, init, round, robot);
+      bool changed = false;
+      for (size_t k = 0; k < num_cameras; ++k) {
+        changed = changed || working.cameras[k].params != r.intrinsics[k];
+        working.cameras[k].params = r.intrinsics[k];
+      }
+      // PnP with the new intrinsics: the robot error estimate compares with it.
+      if (changed) internal::RecomputePnp(&problem, options.pnp_max_rms_px);
+      return r;
+    };
     // The first loss scale from the residuals at the closed-form start: a
     // start that is far off is then solved nearly as least squares, and the
     // scale narrows once the residuals are known.
@@ -298,17 +371,18 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
                                          internal::DetectionSigmaPx(problem)};
           } else if (options.robot_sigma_mm < 0) {
             if (!solved_once) {
-              warm_start(internal::RefineJoint(problem, init, round));
+              warm_start(refine(round, std::nullopt));
               solved_once = true;
             }
             robot = internal::EstimateRobotPrior(problem, init.X,
                                                  internal::TargetPoses(dataset.cameras.size(), init.Z));
           }
-          internal::Refinement r = internal::RefineJoint(problem, init, round, robot);
+          internal::Refinement r = refine(round, robot);
           warm_start(r);  // of the next round
           return r;
         },
         &result.warnings);
+    robot_model = robot;
     if (robot) {
       result.solver.robot_sigma_mm = robot->sigma_m * 1000.0;
       result.solver.robot_sigma_deg = robot->sigma_rad * 180.0 / M_PI;
@@ -322,6 +396,33 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     }
     est.X = refined.X;
     est.shared_Z = refined.Z[0];
+    for (size_t k = 0; k < num_cameras; ++k) {
+      if (init.free_intrinsics[k].empty()) continue;
+      for (int p : internal::UndeterminedIntrinsics(start_cameras[k], refined.intrinsics_sigma[k],
+                                                    init.free_intrinsics[k])) {
+        if (estimated[k] && p < 4)
+          throw SolveError("camera '" + dataset.cameras[k].name +
+                           "' has no intrinsics and the views do not determine its " + Camera::ParamName(p) +
+                           "; take views with the target tilted by 20° or more in different directions and "
+                           "covering the image, or give the camera's intrinsics in the dataset");
+        undetermined[k].push_back(p);
+      }
+      IntrinsicsResult intrinsics;
+      intrinsics.camera = working.cameras[k];
+      intrinsics.camera.has_intrinsics = true;
+      intrinsics.sigma = refined.intrinsics_sigma[k];
+      for (int p : init.free_intrinsics[k]) intrinsics.refined.push_back(Camera::ParamName(p));
+      for (int p : undetermined[k]) intrinsics.undetermined.push_back(Camera::ParamName(p));
+      if (!undetermined[k].empty()) {
+        std::string names;
+        for (const auto& name : intrinsics.undetermined) names += (names.empty() ? "" : ", ") + name;
+        result.warnings.push_back("camera '" + dataset.cameras[k].name + "': the views hardly determine " + names +
+                                  ", which a prior keeps near the " +
+                                  (estimated[k] ? "estimate from the views alone" : "given values") +
+                                  " (1σ: an image corner within 20 px); see intrinsics_sigma");
+      }
+      refined_intrinsics[k] = intrinsics;
+    }
     const double robot_mm = result.solver.robot_sigma_mm, robot_deg = result.solver.robot_sigma_deg;
     result.solver = refined.summary;
     result.solver.robot_sigma_mm = robot_mm;
@@ -340,9 +441,16 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
       result.camera_pairs.push_back(p);
     }
   } else if (options.method == Method::kPerCamera) {
-    // Each camera on its own: ViSP (on diverse views) then the reprojection
-    // solve with its own Z over all views.
-    est = PerCameraEstimate(internal::WithDiverseViews(problem, 12), Method::kVisp, &result.warnings);
+    // Each camera on its own: a closed form that prints nothing (on diverse
+    // views) then the reprojection solve with its own Z over all views.
+    const Problem diverse = internal::WithDiverseViews(problem, 12);
+    est = PerCameraEstimate(
+        diverse,
+        [&](int camera, std::string* why) {
+          std::string chosen;
+          return internal::SilentClosedFormHandEye(diverse, camera, &chosen, why);
+        },
+        MethodName(options.method), &result.warnings);
     const double first_scale =
         std::max(1.0, 3.0 * internal::ResidualSigmaPx(problem, est.X, est.Z));
     const internal::Refinement refined = RobustSolve(
@@ -365,7 +473,12 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     est.shared_Z = internal::MeanTransform(solved);
     result.solver = refined.summary;
   } else {
-    est = PerCameraEstimate(problem, options.method, &result.warnings);
+    est = PerCameraEstimate(
+        problem,
+        [&](int camera, std::string* why) {
+          return internal::ClosedFormHandEye(problem, camera, options.method, why);
+        },
+        MethodName(options.method), &result.warnings);
     result.solver.converged = true;
     result.solver.termination = "CLOSED_FORM";
   }
@@ -397,6 +510,20 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
       }
   }
   FillResult(problem, est, options, &result);
+  for (auto& [k, intrinsics] : refined_intrinsics) result.cameras[k].intrinsics = intrinsics;
+  if (options.check_intrinsics) {
+    // Focal length and principal point not refined: do the views agree with them?
+    std::vector<unsigned> check(num_cameras, kFocal | kPrincipalPoint);
+    for (const auto& [k, intrinsics] : refined_intrinsics) {
+      const auto& names = intrinsics.refined;
+      if (std::find(names.begin(), names.end(), "fx") != names.end()) check[k] &= ~unsigned(kFocal);
+      if (std::find(names.begin(), names.end(), "cx") != names.end()) check[k] &= ~unsigned(kPrincipalPoint);
+    }
+    const auto intrinsics_warnings =
+        internal::IntrinsicsWarnings(problem, est.X, Z, std::max(1.0, result.solver.cauchy_scale_px), check,
+                                     robot_model);
+    result.warnings.insert(result.warnings.end(), intrinsics_warnings.begin(), intrinsics_warnings.end());
+  }
   result.solver.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -9,6 +9,15 @@
 
 #include "handeye/core/calibration.h"
 
+namespace ceres {
+class CostFunction;
+class Problem;
+namespace internal {
+class ResidualBlock;
+}
+using ResidualBlockId = internal::ResidualBlock*;
+}
+
 namespace handeye::internal {
 
 /// One observation prepared for the solver.
@@ -99,6 +108,13 @@ std::optional<Eigen::Isometry3d> TargetFromCamera(const Problem& problem, int ca
 std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> ClosedFormHandEye(
     const Problem& problem, int camera, Method method, std::string* why);
 
+/// The better (median view RMS of the camera) of OpenCV's Park and Tsai
+/// closed forms on one camera: the initialisation of the reprojection solves,
+/// which must not print (ViSP does). `*chosen` names the method kept; nullopt
+/// with the reason in *why when neither solves.
+std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> SilentClosedFormHandEye(
+    const Problem& problem, int camera, std::string* chosen, std::string* why);
+
 /// Linear AX = XB over the motions of all cameras at once (shared Z), for
 /// cameras whose own motions are too few for a per-camera solve.
 std::optional<Eigen::Isometry3d> SharedTargetClosedForm(const Problem& problem);
@@ -113,6 +129,13 @@ struct Initialisation {
   std::vector<std::optional<Eigen::Isometry3d>> X;
   Eigen::Isometry3d Z = Eigen::Isometry3d::Identity();
   std::vector<std::string> notes;
+  /// Per camera, the intrinsics (OpenCVCameraModel indices) that are unknowns
+  /// of the joint solve, started from the problem's cameras; empty: fixed.
+  std::vector<std::vector<int>> free_intrinsics;
+  /// The given intrinsics (the prior's centre, see IntrinsicsPrior) and the
+  /// pixel σ that weighs the prior against the reprojection residuals.
+  std::vector<Camera> given_cameras;
+  double pixel_sigma_px = 1.0;
 };
 Initialisation InitialiseJoint(const Problem& problem);
 
@@ -130,6 +153,11 @@ struct Refinement {
   std::vector<Eigen::Isometry3d> Z;  ///< one (joint) or one per camera (per-camera)
   std::map<std::pair<int, int>, Eigen::Isometry3d> pairs;  ///< (k, t) → T_camk_camt
   SolverSummary summary;
+  /// Per camera (joint solve): the intrinsics after the solve, and 1σ of the
+  /// free ones (scaled by the residuals seen; 0 for fixed ones, infinite
+  /// when the views cannot determine them at all).
+  std::vector<std::array<double, OpenCVCameraModel::kNumParams>> intrinsics;
+  std::vector<std::array<double, OpenCVCameraModel::kNumParams>> intrinsics_sigma;
 };
 /// The robot's own pose error, when the joint solve models it: one pose block
 /// per robot pose, tied to the reported pose by a prior of these σ.
@@ -159,5 +187,52 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
 /// One Z per camera, no cross terms (for --method per-camera).
 Refinement RefinePerCamera(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
                            const std::vector<Eigen::Isometry3d>& Z, const CalibrationOptions& options);
+
+/// The intrinsics (OpenCVCameraModel indices) of `camera` that the groups
+/// (IntrinsicsGroup flags) make unknowns: distortion is k1, k2, p1, p2 and
+/// every further non-zero coefficient, never the tilt.
+std::vector<int> FreeIntrinsics(const Camera& camera, unsigned groups);
+
+/// How much an error shared by the points of a view (a robot pose error not
+/// modelled, a view's blur) inflates the variance of parameters estimated
+/// from them, as the residuals of the view blocks show it: 1 for independent
+/// points, up to the points per view when all move together. Covariances from
+/// the per-point residuals alone are multiplied by it.
+double ViewDesignFactor(const ceres::Problem& problem, const std::vector<ceres::ResidualBlockId>& views);
+
+/// 1σ of the prior of each intrinsic parameter about its given value: the
+/// value that moves an image corner by 20 px.
+std::array<double, OpenCVCameraModel::kNumParams> IntrinsicsPriorSigma(const Camera& camera);
+
+/// The prior residuals of the free intrinsics about `given`, in the units of
+/// pixel residuals of σ `pixel_sigma_px`. Block: the camera's 18 intrinsics.
+ceres::CostFunction* IntrinsicsPrior(const Camera& given, const std::vector<int>& free, double pixel_sigma_px);
+
+/// The free intrinsics the views hardly determine: their 1σ after the solve
+/// is more than half their prior's (the prior, not the views, holds them).
+std::vector<int> UndeterminedIntrinsics(const Camera& given,
+                                        const std::array<double, OpenCVCameraModel::kNumParams>& sigma,
+                                        const std::vector<int>& free);
+
+/// Intrinsics of camera `k` estimated from its views alone (closed form from
+/// the views' homographies, then OpenCV's calibration: fx, fy, cx, cy, k1,
+/// k2, p1, p2), for a camera whose dataset gives none. Throws SolveError with
+/// advice when the views are too few or too alike to determine them.
+Camera EstimateIntrinsics(const Dataset& dataset, int k);
+
+/// Re-runs PnP of every used view with the problem's (refined) intrinsics.
+void RecomputePnp(Problem* problem, double max_rms_px);
+
+/// The check of the given intrinsics after a solve: per camera, fx, fy, cx,
+/// cy as the camera's views alone say (X_k, its own Z and those four free); a
+/// warning where a group in `check[k]` (kFocal, kPrincipalPoint) differs from
+/// the given values by more than 3σ and by a visible amount (0.3 % of the
+/// focal length, 0.5 px).
+/// With `robot`, each robot pose is a block under that prior, as in the joint solve.
+std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
+                                            const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                                            const TargetPoses& Z, double cauchy_scale_px,
+                                            const std::vector<unsigned>& check,
+                                            const std::optional<RobotPrior>& robot);
 
 }  // namespace handeye::internal

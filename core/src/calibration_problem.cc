@@ -175,6 +175,19 @@ Problem BuildProblem(const Dataset& dataset, const CalibrationOptions& options) 
   return problem;
 }
 
+void RecomputePnp(Problem* problem, double max_rms_px) {
+  for (View& view : problem->views) {
+    if (!view.used) continue;
+    View fresh = view;
+    SolvePnp(problem->dataset->cameras[view.camera], max_rms_px, &fresh);
+    // A view the refined intrinsics no longer fit on its own keeps its old pose.
+    if (fresh.used && fresh.T_cam_target) {
+      view.T_cam_target = fresh.T_cam_target;
+      view.pnp_rms_px = fresh.pnp_rms_px;
+    }
+  }
+}
+
 std::string MotionDiversityProblem(const Problem& problem, const std::vector<int>& cameras) {
   const MotionAxes motions = CollectMotions(problem, cameras);
   std::ostringstream why;

@@ -41,6 +41,12 @@ std::vector<double> Camera::Distortion() const {
   return std::vector<double>(params.begin() + 4, params.begin() + 4 + num_distortion);
 }
 
+const char* Camera::ParamName(int index) {
+  static const char* const kNames[OpenCVCameraModel::kNumParams] = {
+      "fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3", "k4", "k5", "k6", "s1", "s2", "s3", "s4", "tau_x", "tau_y"};
+  return index >= 0 && index < OpenCVCameraModel::kNumParams ? kNames[index] : "?";
+}
+
 bool Camera::HasDistortion() const {
   for (int i = 4; i < OpenCVCameraModel::kNumParams; ++i)
     if (params[i] != 0.0) return true;

@@ -12,6 +12,8 @@
 
 #include <cstdio>
 #include <iostream>
+#include <limits>
+#include <mutex>
 #include <sstream>
 
 #include "calibration_internal.h"
@@ -62,31 +64,44 @@ std::optional<Eigen::Isometry3d> FromVisp(const vpHomogeneousMatrix& V) {
   return RigidFromMatrix(M, /*reorthonormalise=*/true, &why);
 }
 
-// Silences the process's standard output for its lifetime: ViSP 3.5 prints
-// its residuals with printf, and a library must not write to stdout.
-// Calibration runs on one thread; nothing else may print meanwhile.
-class QuietStdout {
+// ViSP 3.5 has one public hand-eye entry point, vpHandEyeCalibration::calibrate,
+// and it always prints its residuals (calibrationVerifrMo writes to std::cout).
+// A library must not write to stdout, so only `--method visp` calls ViSP, and
+// for that call file descriptor 1 points at /dev/null. Descriptors are
+// process-wide: the lock serialises every redirect so that each one restores
+// the descriptor the process had, never another call's /dev/null. Whatever
+// another thread writes to stdout meanwhile is lost (documented on kVisp).
+std::mutex& StdoutRedirectMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+class SilencedStdout {
  public:
-  QuietStdout() {
+  SilencedStdout() : lock_(StdoutRedirectMutex()) {
     std::fflush(stdout);
     std::cout.flush();
     saved_ = dup(STDOUT_FILENO);
-    const int null_fd = open("/dev/null", O_WRONLY);
-    if (saved_ >= 0 && null_fd >= 0) dup2(null_fd, STDOUT_FILENO);
-    if (null_fd >= 0) close(null_fd);
+    if (saved_ < 0) return;  // fd 1 is not open: nothing to silence or restore
+    const int null_fd = open("/dev/null", O_WRONLY | O_CLOEXEC);
+    if (null_fd >= 0) {
+      dup2(null_fd, STDOUT_FILENO);
+      close(null_fd);
+    }
   }
-  ~QuietStdout() {
-    std::fflush(stdout);
+  ~SilencedStdout() {
     std::cout.flush();
+    std::fflush(stdout);
     if (saved_ >= 0) {
       dup2(saved_, STDOUT_FILENO);
       close(saved_);
     }
   }
-  QuietStdout(const QuietStdout&) = delete;
-  QuietStdout& operator=(const QuietStdout&) = delete;
+  SilencedStdout(const SilencedStdout&) = delete;
+  SilencedStdout& operator=(const SilencedStdout&) = delete;
 
  private:
+  std::lock_guard<std::mutex> lock_;
   int saved_ = -1;
 };
 
@@ -111,8 +126,7 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> VispHandEye(const
   vpHomogeneousMatrix eMc;
   int status = -1;
   try {
-    // ViSP 3.5 prints its residuals on std::cout; a library must not.
-    const QuietStdout quiet;
+    const SilencedStdout silenced;
     status = vpHandEyeCalibration::calibrate(cMo, rMe, eMc);
   } catch (const std::exception& e) {
     *why = std::string("ViSP failed: ") + e.what();
@@ -220,6 +234,32 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> ClosedFormHandEye
   }
 }
 
+std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> SilentClosedFormHandEye(
+    const Problem& problem, int camera, std::string* chosen, std::string* why) {
+  // Park (rotation on the Lie group) and Tsai (rotation axes) fail in
+  // different ways on poor motion sets; keep the one whose chain explains
+  // this camera's views best. Both are OpenCV's and print nothing.
+  std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> best;
+  double best_score = std::numeric_limits<double>::infinity();
+  std::vector<std::optional<Eigen::Isometry3d>> X(problem.camera_views.size());
+  for (const Method method : {Method::kPark, Method::kTsai}) {
+    std::string failed;
+    const auto solved = ClosedFormHandEye(problem, camera, method, &failed);
+    if (!solved) {
+      if (!best) *why = failed;
+      continue;
+    }
+    X[camera] = solved->first;
+    const double score = MedianViewRms(problem, X, solved->second);
+    if (!best || score < best_score) {
+      best = solved;
+      best_score = score;
+      *chosen = MethodName(method);
+    }
+  }
+  return best;
+}
+
 std::optional<Eigen::Isometry3d> SharedTargetClosedForm(const Problem& problem) {
   // For two views a, b of one camera, W = Z⁻¹ satisfies A·W = W·B with
   // A = T_cam_target[b]⁻¹ · T_cam_target[a] and B = M_b⁻¹ · M_a.
@@ -283,13 +323,16 @@ Initialisation InitialiseJoint(const Problem& full_problem) {
   // refinement then uses every view.
   const Problem problem = WithDiverseViews(full_problem, 12);
   const size_t num_cameras = problem.camera_views.size();
-  // Candidates for the shared Z: ViSP per camera where a camera has the
-  // motions for it, and the linear solve over all cameras.
+  // Candidates for the shared Z: a closed form per camera where a camera has
+  // the motions for it, and the linear solve over all cameras. None of them
+  // may print (Calibrate() is reentrant and writes nothing to stdout), which
+  // rules ViSP out here.
   std::vector<std::pair<std::string, Eigen::Isometry3d>> candidates;
   for (size_t k = 0; k < num_cameras; ++k) {
-    std::string why;
-    const auto solved = ClosedFormHandEye(problem, static_cast<int>(k), Method::kVisp, &why);
-    if (solved) candidates.emplace_back("ViSP on camera '" + problem.dataset->cameras[k].name + "'", solved->second);
+    std::string chosen, why;
+    const auto solved = SilentClosedFormHandEye(problem, static_cast<int>(k), &chosen, &why);
+    if (solved)
+      candidates.emplace_back(chosen + " on camera '" + problem.dataset->cameras[k].name + "'", solved->second);
   }
   if (const auto shared = SharedTargetClosedForm(problem))
     candidates.emplace_back("linear solve over all cameras", *shared);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The nonlinear refinement: the paper's joint problem (shared Z, c_rpj + c_cross
 // under a Cauchy loss) and the per-camera variant.
+#include <ceres/covariance.h>
 #include <ceres/manifold.h>
 #include <ceres/ordered_groups.h>
 #include <ceres/product_manifold.h>
@@ -8,7 +9,9 @@
 #include <ceres/iteration_callback.h>
 #include <ceres/solver.h>
 
+#include <algorithm>
 #include <chrono>
+#include <limits>
 #include <memory>
 
 #include "calibration_internal.h"
@@ -94,9 +97,11 @@ ceres::Solver::Options SolverOptions(const CalibrationOptions& options, const ce
 /// false) for the caller to warn about, a failed one throws.
 SolverSummary Solve(ceres::Solver::Options solver, const CalibrationOptions& options,
                     ceres::Problem* problem) {
-  std::vector<double*> blocks;
+  std::vector<double*> blocks, poses;
   problem->GetParameterBlocks(&blocks);
-  StepTolerance step_tolerance({blocks.begin(), blocks.end()}, options);
+  for (double* block : blocks)
+    if (problem->ParameterBlockSize(block) == 7) poses.push_back(block);
+  StepTolerance step_tolerance({poses.begin(), poses.end()}, options);
   solver.callbacks.push_back(&step_tolerance);
   solver.update_state_every_iteration = true;  // the callback reads the blocks
   ceres::Solver::Summary summary;
@@ -115,6 +120,56 @@ SolverSummary Solve(ceres::Solver::Options solver, const CalibrationOptions& opt
   if (summary.termination_type == ceres::FAILURE || summary.termination_type == ceres::USER_FAILURE)
     throw SolveError("the nonlinear solver failed: " + summary.message);
   return out;
+}
+
+/// 1σ of every parameter of the intrinsics blocks (null: none, all 0), from
+/// the covariance at the solution scaled by the a posteriori variance factor
+/// (the residuals' own scale); infinite where the Jacobian is rank deficient.
+std::vector<std::array<double, OpenCVCameraModel::kNumParams>> IntrinsicsSigma(
+    ceres::Problem* problem, const std::vector<double*>& K, const std::vector<ceres::ResidualBlockId>& views,
+    int threads) {
+  constexpr int kN = OpenCVCameraModel::kNumParams;
+  std::vector<std::array<double, kN>> sigma(K.size());
+  for (auto& s : sigma) s.fill(0.0);
+  std::vector<std::pair<const double*, const double*>> pairs;
+  for (double* block : K)
+    if (block) pairs.emplace_back(block, block);
+  if (pairs.empty()) return sigma;
+  double cost = 0;
+  problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
+  std::vector<double*> blocks;
+  problem->GetParameterBlocks(&blocks);
+  int dof = 0;
+  for (double* block : blocks) dof += problem->ParameterBlockTangentSize(block);
+  const int redundancy = problem->NumResiduals() - dof;
+  const double variance_factor =
+      (redundancy > 0 ? 2.0 * cost / redundancy : 1.0) * ViewDesignFactor(*problem, views);
+  ceres::Covariance::Options covariance_options;
+  covariance_options.algorithm_type = ceres::SPARSE_QR;
+  covariance_options.num_threads = threads;
+  ceres::Covariance covariance(covariance_options);
+  const bool ok = covariance.Compute(pairs, problem);
+  for (size_t k = 0; k < K.size(); ++k) {
+    if (!K[k]) continue;
+    Eigen::Matrix<double, kN, kN, Eigen::RowMajor> C = Eigen::Matrix<double, kN, kN, Eigen::RowMajor>::Zero();
+    if (ok) covariance.GetCovarianceBlock(K[k], K[k], C.data());
+    const ceres::Manifold* manifold = problem->GetManifold(K[k]);
+    const int free = manifold ? manifold->TangentSize() : kN;
+    for (int p = 0; p < kN; ++p) {
+      if (ok)
+        sigma[k][p] = std::sqrt(std::max(0.0, C(p, p)) * variance_factor);
+      else
+        sigma[k][p] = free > 0 ? std::numeric_limits<double>::infinity() : 0.0;
+    }
+    if (!ok && manifold) {
+      // Fixed parameters stay exact: the subset manifold's plus is the identity on them.
+      Eigen::Matrix<double, kN, Eigen::Dynamic, Eigen::RowMajor> P(kN, manifold->TangentSize());
+      manifold->PlusJacobian(K[k], P.data());
+      for (int p = 0; p < kN; ++p)
+        if (P.row(p).isZero()) sigma[k][p] = 0.0;
+    }
+  }
+  return sigma;
 }
 
 }  // namespace
@@ -138,6 +193,26 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
     SetPoseManifold(&ceres_problem, X[k]);
   }
 
+  // Free intrinsics: one block of 18 per camera, the fixed ones held by a subset manifold.
+  using Intrinsics = std::array<double, OpenCVCameraModel::kNumParams>;
+  std::vector<Intrinsics> K(dataset.cameras.size());
+  std::vector<double*> K_block(dataset.cameras.size(), nullptr);
+  for (size_t k = 0; k < K.size(); ++k) {
+    K[k] = dataset.cameras[k].params;
+    if (!X[k] || k >= init.free_intrinsics.size() || init.free_intrinsics[k].empty()) continue;
+    K_block[k] = K[k].data();
+    ceres_problem.AddParameterBlock(K_block[k], OpenCVCameraModel::kNumParams);
+    std::vector<int> constant;
+    for (int p = 0; p < OpenCVCameraModel::kNumParams; ++p)
+      if (std::find(init.free_intrinsics[k].begin(), init.free_intrinsics[k].end(), p) ==
+          init.free_intrinsics[k].end())
+        constant.push_back(p);
+    if (!constant.empty())
+      ceres_problem.SetManifold(K_block[k], new ceres::SubsetManifold(OpenCVCameraModel::kNumParams, constant));
+    ceres_problem.AddResidualBlock(IntrinsicsPrior(init.given_cameras[k], init.free_intrinsics[k], init.pixel_sigma_px),
+                                   nullptr, K_block[k]);
+  }
+
   // With a robot prior, each robot pose with a used view is a block, tied to
   // the reported pose by its prior.
   std::vector<double*> M(dataset.poses.size(), nullptr);
@@ -154,16 +229,22 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
     return M[j];
   };
   // One view's reprojection cost through camera block `camera_block` (X_k or Y_kt).
+  std::vector<ceres::ResidualBlockId> direct_blocks;  // c_rpj, one per view
   auto add_view = [&](const View& view, int k, double* camera_block, std::shared_ptr<const ViewPoints> view_points) {
+    const bool free_intrinsics = K_block[k] != nullptr;
+    std::vector<double*> blocks = {camera_block};
+    ceres::CostFunction* cost;
     if (robot) {
-      ceres_problem.AddResidualBlock(
-          ViewReprojectionWithRobotError::Create(dataset.cameras[k], std::move(view_points), options.cauchy_scale_px),
-          nullptr, camera_block, robot_pose(view.pose), Z);
+      cost = ViewReprojectionWithRobotError::Create(dataset.cameras[k], std::move(view_points),
+                                                    options.cauchy_scale_px, free_intrinsics);
+      blocks.push_back(robot_pose(view.pose));
     } else {
-      ceres_problem.AddResidualBlock(ViewReprojectionError::Create(dataset.cameras[k], problem.M[view.pose],
-                                                                   std::move(view_points), options.cauchy_scale_px),
-                                     nullptr, camera_block, Z);
+      cost = ViewReprojectionError::Create(dataset.cameras[k], problem.M[view.pose], std::move(view_points),
+                                           options.cauchy_scale_px, free_intrinsics);
     }
+    blocks.push_back(Z);
+    if (free_intrinsics) blocks.push_back(K_block[k]);
+    return ceres_problem.AddResidualBlock(cost, nullptr, blocks);
   };
 
   // c_rpj: every point of every used view (one block per view, the loss per point).
@@ -175,7 +256,7 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
     if (!view.used || !X[view.camera]) continue;
     views_at_pose[view.pose].push_back(static_cast<int>(v));
     points[v] = Points(view);
-    add_view(view, view.camera, X[view.camera], points[v]);
+    direct_blocks.push_back(add_view(view, view.camera, X[view.camera], points[v]));
   }
 
   // c_cross: at each pose, for each ordered pair (k, t) of cameras that both
@@ -223,6 +304,8 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
   for (double* block : M)
     if (block) ordering->AddElementToGroup(block, 0);
   ordering->AddElementToGroup(Z, 1);
+  for (double* block : K_block)
+    if (block) ordering->AddElementToGroup(block, 1);
   solver.linear_solver_type = ceres::DENSE_SCHUR;
   solver.linear_solver_ordering = ordering;
   // The closed-form start is close, so the first steps can be near
@@ -238,6 +321,8 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
     if (X[k]) out.X[k] = PoseBlocks::Get(X[k]);
   for (const auto& [pair, Y_kt] : pair_blocks)
     out.pairs[pair] = PoseBlocks::Get(Y_kt) * out.X[pair.second]->inverse();
+  out.intrinsics = K;
+  out.intrinsics_sigma = IntrinsicsSigma(&ceres_problem, K_block, direct_blocks, options.threads);
   return out;
 }
 

@@ -71,6 +71,13 @@ std::vector<double> PointErrors(const Problem& problem, const std::vector<std::o
   return errors;
 }
 
+/// The target's centre (its points' mean), which locates it better than its origin.
+Eigen::Vector3d TargetCentre(const Target& target) {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const TargetPoint& p : target.Points()) centre += p.p_target;
+  return centre / static_cast<double>(std::max<size_t>(1, target.Points().size()));
+}
+
 double Rms(const std::vector<double>& errors) {
   double sum = 0;
   for (double e : errors) sum += e * e;
@@ -202,9 +209,7 @@ std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
                                              const std::vector<std::optional<Eigen::Isometry3d>>& X,
                                              const TargetPoses& Z) {
   const Dataset& dataset = *problem.dataset;
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  for (const TargetPoint& p : dataset.target->Points()) centre += p.p_target;
-  centre /= std::max<size_t>(1, dataset.target->Points().size());
+  const Eigen::Vector3d centre = TargetCentre(*dataset.target);
   std::vector<double> chain_rms, pnp_rms, across_m, angle_rad;
   for (const View& view : problem.views) {
     if (!view.used || !X[view.camera]) continue;
@@ -220,7 +225,7 @@ std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
   if (chain_rms.size() < 3) return std::nullopt;
   // The chain has 6 fewer unknowns per view than PnP; clearly above it means
   // the robot's poses, not the detections, set the residuals.
-  if (Median(chain_rms) < 1.3 * Median(pnp_rms)) return std::nullopt;
+  if (Median(chain_rms) < 2.0 * Median(pnp_rms)) return std::nullopt;
   RobotPrior prior;
   // Medians of the norm of a 2D and of a 3D isotropic Gaussian: 1.1774 σ and 1.5382 σ.
   prior.sigma_rad = std::max(Median(angle_rad) / 1.5382, 1e-5 * kDeg);
@@ -239,10 +244,7 @@ std::vector<std::string> PoseRecordWarnings(const Problem& problem,
                                             const std::vector<std::optional<Eigen::Isometry3d>>& X,
                                             const TargetPoses& Z) {
   const Dataset& dataset = *problem.dataset;
-  // The target's centre (its points' mean) locates it better than its origin.
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  for (const TargetPoint& p : dataset.target->Points()) centre += p.p_target;
-  centre /= std::max<size_t>(1, dataset.target->Points().size());
+  const Eigen::Vector3d centre = TargetCentre(*dataset.target);
   std::vector<std::string> warnings;
   for (size_t j = 0; j < dataset.poses.size(); ++j) {
     std::vector<const View*> seen;  // views of the pose that had a target pose of their own

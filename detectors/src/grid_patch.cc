@@ -104,7 +104,6 @@ bool HasGridPatch(const std::vector<SaddlePoint>& all_saddles, const GridPatchOp
   for (int i = 0; i < static_cast<int>(saddles.size()); ++i) {
     const SaddlePoint& p = saddles[i];
     // p's nearest points: a radius doubled until it holds enough of them.
-    near.clear();
     for (double radius = 4.0 * kCellPx;; radius *= 2) {
       const double r = std::min(radius, options.max_step_px);
       near.clear();

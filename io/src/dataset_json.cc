@@ -141,29 +141,43 @@ Camera ReadCamera(const JsonReader& r) {
     width = file_width;
     height = file_height;
   }
-  double fx, fy, cx, cy;
-  std::vector<double> distortion;
   if (from_file) {
-    fx = from_file->fx;
-    fy = from_file->fy;
-    cx = from_file->cx;
-    cy = from_file->cy;
-    distortion = from_file->distortion;
-  } else {
-    const JsonReader intrinsics = r.Key("intrinsics");
-    intrinsics.ExpectObject("{\"fx\", \"fy\", \"cx\", \"cy\"} in pixels (or intrinsics_file)");
-    intrinsics.RejectUnknownKeys({"fx", "fy", "cx", "cy"});
-    fx = intrinsics.Key("fx").Positive();
-    fy = intrinsics.Key("fy").Positive();
-    cx = intrinsics.Key("cx").Number();
-    cy = intrinsics.Key("cy").Number();
-    distortion = ReadDistortion(r.Key("distortion"));
+    std::string why;
+    const auto camera = Camera::Make(name, width, height, from_file->fx, from_file->fy, from_file->cx, from_file->cy,
+                                     from_file->distortion, &why);
+    if (!camera) throw r.Error("expected " + why);
+    return *camera;
   }
+  if (!r.Has("intrinsics") && !r.Has("distortion")) {
+    // No intrinsics: Calibrate() estimates them from the views (SPEC §4).
+    std::string why;
+    const double f = std::max(width, height);
+    auto camera = Camera::Make(name, width, height, f, f, (width - 1) / 2.0, (height - 1) / 2.0, {}, &why);
+    if (!camera) throw r.Error("expected " + why);
+    camera->has_intrinsics = false;
+    return *camera;
+  }
+  return ReadIntrinsicsJson(r, name, width, height);
+}
+
+}  // namespace
+
+Camera ReadIntrinsicsJson(const JsonReader& r, const std::string& name, int width, int height) {
+  const JsonReader intrinsics = r.Key("intrinsics");
+  intrinsics.ExpectObject("{\"fx\", \"fy\", \"cx\", \"cy\"} in pixels (or intrinsics_file)");
+  intrinsics.RejectUnknownKeys({"fx", "fy", "cx", "cy"});
+  const double fx = intrinsics.Key("fx").Positive();
+  const double fy = intrinsics.Key("fy").Positive();
+  const double cx = intrinsics.Key("cx").Number();
+  const double cy = intrinsics.Key("cy").Number();
+  const std::vector<double> distortion = ReadDistortion(r.Key("distortion"));
   std::string why;
   const auto camera = Camera::Make(name, width, height, fx, fy, cx, cy, distortion, &why);
   if (!camera) throw r.Error("expected " + why);
   return *camera;
 }
+
+namespace {
 
 std::string CameraList(const Dataset& dataset) {
   std::string list;
@@ -371,20 +385,7 @@ OrderedJson CameraJson(const Camera& camera) {
   OrderedJson j = OrderedJson::object();
   j["name"] = camera.name;
   j["image_size"] = {camera.width, camera.height};
-  OrderedJson intrinsics = OrderedJson::object();
-  intrinsics["fx"] = camera.fx();
-  intrinsics["fy"] = camera.fy();
-  intrinsics["cx"] = camera.cx();
-  intrinsics["cy"] = camera.cy();
-  j["intrinsics"] = intrinsics;
-  OrderedJson distortion = OrderedJson::object();
-  if (camera.num_distortion == 0) {
-    distortion["model"] = "none";
-  } else {
-    distortion["model"] = "opencv";
-    distortion["coeffs"] = camera.Distortion();
-  }
-  j["distortion"] = distortion;
+  if (camera.has_intrinsics) WriteIntrinsicsJson(camera, &j);
   return j;
 }
 
@@ -451,6 +452,23 @@ Dataset DatasetFromJson(const nlohmann::json& doc, const std::string& path, cons
   // Only `handeye evaluate` uses it, but a broken one should not wait until then.
   if (root.Has("ground_truth")) ReadGroundTruth(root.Key("ground_truth"), dataset.setup);
   return dataset;
+}
+
+void WriteIntrinsicsJson(const Camera& camera, nlohmann::ordered_json* j) {
+  OrderedJson intrinsics = OrderedJson::object();
+  intrinsics["fx"] = camera.fx();
+  intrinsics["fy"] = camera.fy();
+  intrinsics["cx"] = camera.cx();
+  intrinsics["cy"] = camera.cy();
+  (*j)["intrinsics"] = intrinsics;
+  OrderedJson distortion = OrderedJson::object();
+  if (camera.num_distortion == 0) {
+    distortion["model"] = "none";
+  } else {
+    distortion["model"] = "opencv";
+    distortion["coeffs"] = camera.Distortion();
+  }
+  (*j)["distortion"] = distortion;
 }
 
 void SaveDataset(const Dataset& dataset, const std::string& path) {

@@ -59,7 +59,17 @@ ReportSummary WriteReport(const Dataset& dataset, const CalibrationResult& resul
   const auto start = std::chrono::steady_clock::now();
   std::string why;
   if (!options.Check(&why)) throw std::invalid_argument("WriteReport: " + why);
-  const report::ReportModel model = report::BuildModel(dataset, result, options);
+  // Overlays and residuals through the intrinsics the result used.
+  Dataset solved = dataset;
+  for (Camera& camera : solved.cameras)
+    for (const CameraResult& cam : result.cameras)
+      if (cam.name == camera.name && cam.intrinsics) {
+        camera.params = cam.intrinsics->camera.params;
+        camera.num_distortion = cam.intrinsics->camera.num_distortion;
+        camera.has_intrinsics = true;
+      }
+  report::ReportModel model = report::BuildModel(solved, result, options);
+  model.given_cameras = dataset.cameras;
 
   const std::filesystem::path root(dir);
   MakeFolder(root);

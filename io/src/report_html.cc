@@ -116,6 +116,40 @@ std::string Figure(const ReportModel& model, const ViewModel& view, int thumb_w)
   return out.str();
 }
 
+// Refined (or estimated) intrinsics beside the given ones.
+void IntrinsicsTable(const ReportModel& model, std::ostringstream& out) {
+  bool any = false;
+  for (const CameraModel& cam : model.cameras) any = any || cam.result->intrinsics;
+  if (!any) return;
+  out << "<h3>Intrinsics</h3>\n<table>\n<tr><th class=\"name\">camera</th><th>parameter</th><th>given</th>"
+      << "<th>refined ± 1σ</th><th>change</th></tr>\n";
+  for (size_t k = 0; k < model.cameras.size(); ++k) {
+    const CameraModel& cam = model.cameras[k];
+    if (!cam.result->intrinsics) continue;
+    const IntrinsicsResult& in = *cam.result->intrinsics;
+    const Camera* given = nullptr;
+    for (const Camera& c : model.given_cameras)
+      if (c.name == cam.camera->name) given = &c;
+    for (const std::string& name : in.refined) {
+      int p = 0;
+      while (p < OpenCVCameraModel::kNumParams && name != Camera::ParamName(p)) ++p;
+      if (p == OpenCVCameraModel::kNumParams) continue;
+      const int decimals = p < 4 ? 2 : 5;
+      const bool known = given && given->has_intrinsics;
+      const bool undetermined =
+          std::find(in.undetermined.begin(), in.undetermined.end(), name) != in.undetermined.end();
+      out << "<tr" << (undetermined ? " class=\"flag\"" : "") << "><td class=\"name\">" << Swatch(static_cast<int>(k))
+          << Escape(cam.camera->name) << "</td><td>" << Escape(name) << "</td><td>"
+          << (known ? Num(given->params[p], decimals) : "–") << "</td><td>" << Num(in.camera.params[p], decimals)
+          << " ± " << Num(in.sigma[p], decimals) << "</td><td>"
+          << (known ? Num(in.camera.params[p] - given->params[p], decimals) : "estimated") << "</td></tr>\n";
+    }
+  }
+  out << "</table>\n<p class=\"small\">Intrinsics that were unknowns of the joint solve "
+         "(--refine-intrinsics, or a camera given none). Highlighted: the views hardly determine "
+         "them; a prior keeps them near the given value.</p>\n";
+}
+
 void CameraTables(const ReportModel& model, std::ostringstream& out) {
   const bool eye_to_hand = model.dataset->setup == Setup::kEyeToHand;
   const std::string T = eye_to_hand ? "T_base_cam" : "T_ee_cam";
@@ -301,6 +335,7 @@ std::string RenderHtml(const ReportModel& model, const PlotFiles& plots,
 
   out << "<h2 id=\"cameras\">Cameras</h2>\n";
   CameraTables(model, out);
+  IntrinsicsTable(model, out);
   SharedAndPairs(model, out);
 
   out << "<h2 id=\"plots\">Plots</h2>\n<div class=\"plots\">\n<img src=\"" << plots.map

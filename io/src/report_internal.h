@@ -77,7 +77,8 @@ struct CameraModel {
 
 /// Everything the overlays, plots and HTML draw, computed once.
 struct ReportModel {
-  const Dataset* dataset = nullptr;
+  const Dataset* dataset = nullptr;  ///< with the intrinsics the result used
+  std::vector<Camera> given_cameras;  ///< the dataset's own, before any refinement
   const CalibrationResult* result = nullptr;
   std::string closed_form_method;  ///< name of the method compared with, "" when not run
   std::vector<ViewModel> views;    ///< dataset.observations order

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "handeye/io/result_json.h"
+#include "handeye/io/dataset_json.h"
 
 #include <algorithm>
 #include <cmath>
@@ -35,6 +36,44 @@ bool ReadBool(const JsonReader& value) {
   return value.json().get<bool>();
 }
 
+// The refined intrinsics in the dataset's form, their 1σ and what was refined.
+void AddIntrinsics(const IntrinsicsResult& intrinsics, nlohmann::ordered_json* c) {
+  (*c)["image_size"] = {intrinsics.camera.width, intrinsics.camera.height};
+  WriteIntrinsicsJson(intrinsics.camera, c);
+  const auto& s = intrinsics.sigma;
+  nlohmann::ordered_json sigma = {{"fx", s[0]}, {"fy", s[1]}, {"cx", s[2]}, {"cy", s[3]}};
+  if (intrinsics.camera.num_distortion > 0)
+    sigma["distortion"] = std::vector<double>(s.begin() + 4, s.begin() + 4 + intrinsics.camera.num_distortion);
+  (*c)["intrinsics_sigma"] = sigma;
+  (*c)["intrinsics_refined"] = intrinsics.refined;
+  if (!intrinsics.undetermined.empty()) (*c)["intrinsics_undetermined"] = intrinsics.undetermined;
+}
+
+std::vector<std::string> ReadStrings(const JsonReader& list) {
+  std::vector<std::string> out;
+  const size_t n = list.ArraySize("an array of strings");
+  for (size_t i = 0; i < n; ++i) out.push_back(list.At(i).String());
+  return out;
+}
+
+IntrinsicsResult ReadIntrinsicsResult(const JsonReader& cam, const std::string& name) {
+  IntrinsicsResult out;
+  const JsonReader size = cam.Key("image_size");
+  if (size.ArraySize("[width, height] in pixels") != 2) throw size.Error("[width, height] in pixels");
+  out.camera = ReadIntrinsicsJson(cam, name, size.At(0).Int(1, 1 << 20), size.At(1).Int(1, 1 << 20));
+  const JsonReader sigma = cam.Key("intrinsics_sigma");
+  const char* keys[] = {"fx", "fy", "cx", "cy"};
+  for (int p = 0; p < 4; ++p) out.sigma[p] = sigma.Key(keys[p]).Number();
+  if (sigma.Has("distortion")) {
+    const JsonReader d = sigma.Key("distortion");
+    const size_t n = std::min<size_t>(d.ArraySize("an array of numbers"), OpenCVCameraModel::kNumDistortion);
+    for (size_t i = 0; i < n; ++i) out.sigma[4 + i] = d.At(i).Number();
+  }
+  if (cam.Has("intrinsics_refined")) out.refined = ReadStrings(cam.Key("intrinsics_refined"));
+  if (cam.Has("intrinsics_undetermined")) out.undetermined = ReadStrings(cam.Key("intrinsics_undetermined"));
+  return out;
+}
+
 }  // namespace
 
 void SaveResult(const CalibrationResult& result, const std::string& path) {
@@ -51,6 +90,7 @@ void SaveResult(const CalibrationResult& result, const std::string& path) {
       AddSummary(cam.T_cam, &c);
       if (cam.own_T_target) c[TargetKey(result.setup)] = JsonFromTransform(*cam.own_T_target);
       c["rms_px"] = cam.rms_px;
+      if (cam.intrinsics) AddIntrinsics(*cam.intrinsics, &c);
     }
     c["views"] = cam.views;
     c["views_rejected"] = cam.views_rejected;
@@ -123,6 +163,7 @@ CalibrationResult LoadResult(const std::string& path) {
       c.T_cam = cam.Key(CameraKey(result.setup)).Rigid(false);
       c.rms_px = cam.Key("rms_px").Number();
       if (cam.Has(TargetKey(result.setup))) c.own_T_target = cam.Key(TargetKey(result.setup)).Rigid(false);
+      if (cam.Has("intrinsics")) c.intrinsics = ReadIntrinsicsResult(cam, name);
     }
     c.views = cam.Key("views").Int(0);
     c.views_rejected = cam.Key("views_rejected").Int(0);

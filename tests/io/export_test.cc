@@ -161,19 +161,34 @@ void CheckClose(const Eigen::Isometry3d& got, const Eigen::Isometry3d& expected,
   CHECK((got.matrix() - expected.matrix()).cwiseAbs().maxCoeff() <= kParseBackTolerance);
 }
 
+std::string OpticalFrame(const std::string& camera, const ExportOptions& frames) {
+  const auto named = frames.camera_frames.find(camera);
+  return named == frames.camera_frames.end() ? camera + "_optical_frame" : named->second;
+}
+
+// Transforms per calibrated camera of SampleResult (3 of them) under `frames`.
+std::size_t CameraTransforms(const ExportOptions& frames) { return frames.optical_only ? 3 : 6; }
+
 // The parsed transforms are exactly the result's chain.
 void CheckTransforms(const ParsedTransforms& parsed, const CalibrationResult& result, const ExportOptions& frames) {
   const bool to_hand = result.setup == Setup::kEyeToHand;
   const std::string parent = to_hand ? frames.base_frame : frames.ee_frame;
-  CHECK(parsed.size() == 7);  // 3 calibrated cameras × 2 + the target
+  CHECK(parsed.size() == CameraTransforms(frames) + 1);  // + the target
   for (const CameraResult& camera : result.cameras) {
-    const std::string link = camera.name + "_link", optical = camera.name + "_optical_frame";
+    const std::string link = camera.name + "_link", optical = OpticalFrame(camera.name, frames);
+    if (!camera.calibrated || frames.optical_only) CHECK(parsed.count(link) == 0);
     if (!camera.calibrated) {
-      CHECK(parsed.count(link) == 0);
+      CHECK(parsed.count(optical) == 0);
+      continue;
+    }
+    REQUIRE(parsed.count(optical));
+    if (frames.optical_only) {
+      // One transform: the robot frame straight to the calibrated optical frame.
+      CHECK(parsed.at(optical).parent == parent);
+      CheckClose(parsed.at(optical).T, camera.T_cam, parent + " -> " + optical);
       continue;
     }
     REQUIRE(parsed.count(link));
-    REQUIRE(parsed.count(optical));
     CHECK(parsed.at(link).parent == parent);
     CHECK(parsed.at(optical).parent == link);
     CheckClose(parsed.at(link).T * parsed.at(optical).T, camera.T_cam, parent + " -> " + optical);
@@ -215,58 +230,75 @@ TEST_CASE("Roll, pitch, yaw rebuild the rotation, also at and near gimbal lock",
   CHECK(worst < 5e-15);
 }
 
+// The frame layouts a user can ask for: the default, a driver's name for one
+// optical frame, and optical frames only (one of them named).
+std::vector<std::pair<std::string, ExportOptions>> FrameLayouts() {
+  ExportOptions named;
+  named.camera_frames["cam0"] = "camera_color_optical_frame";
+  ExportOptions optical_only = named;
+  optical_only.optical_only = true;
+  return {{"default frames", ExportOptions{}}, {"cam0 optical frame named", named}, {"optical frames only", optical_only}};
+}
+
 TEST_CASE("Every export format parses back to the result's transforms to 1e-9", "[io][export]") {
-  ExportOptions frames;
-  for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
-    INFO(SetupName(setup));
-    const CalibrationResult result = SampleResult(setup);
-    std::vector<std::string> warnings;
-    const std::string launch = FormatExport(result, ExportFormat::kRos2Launch, frames, "result.json", &warnings);
-    REQUIRE(warnings.size() == 1);
-    CHECK_THAT(warnings[0], Contains("camera 'cam3' was not calibrated; not exported"));
-    CHECK_THAT(launch, Contains("from launch_ros.actions import Node"));
-    CheckTransforms(ParseLaunch(launch), result, frames);
+  for (const auto& [layout, frames] : FrameLayouts()) {
+    for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
+      INFO(layout << ", " << SetupName(setup));
+      const CalibrationResult result = SampleResult(setup);
+      std::vector<std::string> warnings;
+      const std::string launch = FormatExport(result, ExportFormat::kRos2Launch, frames, "result.json", &warnings);
+      REQUIRE(warnings.size() == 1);
+      CHECK_THAT(warnings[0], Contains("camera 'cam3' was not calibrated; not exported"));
+      CHECK_THAT(launch, Contains("from launch_ros.actions import Node"));
+      CheckTransforms(ParseLaunch(launch), result, frames);
 
-    const std::string urdf = FormatExport(result, ExportFormat::kUrdf, frames, "result.json");
-    CHECK_THAT(urdf, Contains("<robot name=\"handeye_calibration\">"));
-    CheckTransforms(ParseUrdf(urdf), result, frames);
-    // Outside comments the URDF is one tree: every link but the root is the
-    // child of one joint whose parent is a link of the file. The target's
-    // joint, whose parent is elsewhere in the robot, is only in a comment.
-    const std::string live = std::regex_replace(urdf, std::regex(R"(<!--[\s\S]*?-->)"), "");
-    const ParsedTransforms joints = ParseUrdf(live);
-    CHECK(joints.size() == 6);
-    CHECK(joints.count(frames.target_frame) == 0);
-    std::set<std::string> links;
-    const std::regex link(R"re(<link name="([^"]+)"/>)re");
-    for (auto it = std::sregex_iterator(live.begin(), live.end(), link); it != std::sregex_iterator(); ++it)
-      links.insert((*it)[1]);
-    const std::string root = setup == Setup::kEyeToHand ? frames.base_frame : frames.ee_frame;
-    CHECK(links.size() == joints.size() + 1);
-    CHECK(links.count(root) == 1);
-    for (const auto& [child, joint] : joints) {
-      CHECK(links.count(child) == 1);
-      CHECK(links.count(joint.parent) == 1);
+      const std::string urdf = FormatExport(result, ExportFormat::kUrdf, frames, "result.json");
+      CHECK_THAT(urdf, Contains("<robot name=\"handeye_calibration\">"));
+      CheckTransforms(ParseUrdf(urdf), result, frames);
+      // Outside comments the URDF is one tree: every link but the root is the
+      // child of one joint whose parent is a link of the file. The target's
+      // joint, whose parent is elsewhere in the robot, is only in a comment.
+      const std::string live = std::regex_replace(urdf, std::regex(R"(<!--[\s\S]*?-->)"), "");
+      const ParsedTransforms joints = ParseUrdf(live);
+      CHECK(joints.size() == CameraTransforms(frames));
+      CHECK(joints.count(frames.target_frame) == 0);
+      std::set<std::string> links;
+      const std::regex link(R"re(<link name="([^"]+)"/>)re");
+      for (auto it = std::sregex_iterator(live.begin(), live.end(), link); it != std::sregex_iterator(); ++it)
+        links.insert((*it)[1]);
+      const std::string root = setup == Setup::kEyeToHand ? frames.base_frame : frames.ee_frame;
+      CHECK(links.size() == joints.size() + 1);
+      CHECK(links.count(root) == 1);
+      for (const auto& [child, joint] : joints) {
+        CHECK(links.count(child) == 1);
+        CHECK(links.count(joint.parent) == 1);
+      }
+
+      const std::string tf = FormatExport(result, ExportFormat::kTfStaticYaml, frames, "result.json");
+      CheckTransforms(ParseTfStatic(tf), result, frames);
+
+      const std::string yaml = FormatExport(result, ExportFormat::kOpenCvYaml, frames, "result.json");
+      cv::FileStorage fs(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+      const std::string cam_key = setup == Setup::kEyeToHand ? "T_base_cam" : "T_ee_cam";
+      const cv::FileNode cameras = fs["cameras"];
+      REQUIRE(cameras.size() == 3);
+      for (int k = 0; k < 3; ++k) {
+        const cv::FileNode camera = cameras[k];
+        CHECK(static_cast<std::string>(camera["name"]) == result.cameras[k].name);
+        CHECK(static_cast<std::string>(camera["frame_id"]) == OpticalFrame(result.cameras[k].name, frames));
+        // FileStorage prints 17 significant digits: exact.
+        CHECK(ReadMatrix4(camera[cam_key]).matrix() == result.cameras[k].T_cam.matrix());
+        if (frames.optical_only)
+          CHECK(camera[cam_key + "_link"].empty());
+        else
+          CheckClose(ReadMatrix4(camera[cam_key + "_link"]) * OpticalInLink(), result.cameras[k].T_cam, "link");
+      }
+      CHECK(ReadMatrix4(fs[setup == Setup::kEyeToHand ? "T_ee_target" : "T_base_target"]).matrix() ==
+            result.T_target.matrix());
+      // No camera body frame anywhere in an optical-only file, not even in comments.
+      if (frames.optical_only)
+        for (const std::string* text : {&launch, &urdf, &tf, &yaml}) CHECK_THAT(*text, !Contains("cam0_link"));
     }
-
-    const std::string tf = FormatExport(result, ExportFormat::kTfStaticYaml, frames, "result.json");
-    CheckTransforms(ParseTfStatic(tf), result, frames);
-
-    const std::string yaml = FormatExport(result, ExportFormat::kOpenCvYaml, frames, "result.json");
-    cv::FileStorage fs(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY);
-    const std::string cam_key = setup == Setup::kEyeToHand ? "T_base_cam" : "T_ee_cam";
-    const cv::FileNode cameras = fs["cameras"];
-    REQUIRE(cameras.size() == 3);
-    for (int k = 0; k < 3; ++k) {
-      const cv::FileNode camera = cameras[k];
-      CHECK(static_cast<std::string>(camera["name"]) == result.cameras[k].name);
-      CHECK(static_cast<std::string>(camera["frame_id"]) == result.cameras[k].name + "_optical_frame");
-      // FileStorage prints 17 significant digits: exact.
-      CHECK(ReadMatrix4(camera[cam_key]).matrix() == result.cameras[k].T_cam.matrix());
-      CheckClose(ReadMatrix4(camera[cam_key + "_link"]) * OpticalInLink(), result.cameras[k].T_cam, "link");
-    }
-    CHECK(ReadMatrix4(fs[setup == Setup::kEyeToHand ? "T_ee_target" : "T_base_target"]).matrix() ==
-          result.T_target.matrix());
   }
 }
 
@@ -295,6 +327,45 @@ TEST_CASE("Frame names: options are checked, camera names must make frame names"
   for (auto& camera : result.cameras) camera.calibrated = false;
   CHECK_THROWS_WITH(FormatExport(result, ExportFormat::kUrdf, ExportOptions{}, "r.json"),
                     Contains("no calibrated camera; nothing to export"));
+}
+
+TEST_CASE("Camera frame names: checked, known cameras only, no clashes", "[io][export]") {
+  ExportOptions frames;
+  std::string why;
+  frames.camera_frames["cam0"] = "camera/color_optical_frame";
+  CHECK(frames.Check(&why));
+  frames.camera_frames["cam0"] = "color optical";
+  CHECK_FALSE(frames.Check(&why));
+  CHECK_THAT(why, Contains("frame 'color optical' of camera 'cam0' is not a frame name"));
+  frames.camera_frames = {{"", "camera_color_optical_frame"}};
+  CHECK_FALSE(frames.Check(&why));
+  CHECK_THAT(why, Contains("camera with no name"));
+
+  const CalibrationResult result = SampleResult(Setup::kEyeToHand);
+  frames.camera_frames = {{"cam7", "camera_color_optical_frame"}};
+  try {
+    FormatExport(result, ExportFormat::kTfStaticYaml, frames, "r.json");
+    FAIL("a frame for an unknown camera was accepted");
+  } catch (const InputError& e) {
+    CHECK(e.json_path() == "/cameras");
+    CHECK_THAT(e.what(), Contains("camera 'cam7', which the result does not have (cameras: cam0, cam1, cam2, cam3)"));
+  }
+  // An uncalibrated camera may be named: it is left out as without the name.
+  frames.camera_frames = {{"cam3", "camera_color_optical_frame"}};
+  CHECK_THAT(FormatExport(result, ExportFormat::kTfStaticYaml, frames, "r.json"),
+             !Contains("camera_color_optical_frame"));
+  // Two cameras in one frame would give the frame two parents.
+  for (bool optical_only : {false, true}) {
+    frames.optical_only = optical_only;
+    frames.camera_frames = {{"cam0", "cam1_optical_frame"}};
+    try {
+      FormatExport(result, ExportFormat::kUrdf, frames, "r.json");
+      FAIL("two cameras were given one frame");
+    } catch (const InputError& e) {
+      CHECK(e.json_path() == "/cameras/cam1");
+      CHECK_THAT(e.what(), Contains("frame 'cam1_optical_frame' of camera 'cam1' clashes with another frame name"));
+    }
+  }
 }
 
 }  // namespace

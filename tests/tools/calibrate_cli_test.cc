@@ -4,9 +4,13 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 #include "handeye/core/checkerboard.h"
 #include "handeye/core/synthetic.h"
 #include "handeye/io/dataset_json.h"
+#include "handeye/io/json_util.h"
 #include "support/test_support.h"
 
 using namespace handeye;
@@ -51,4 +55,56 @@ TEST_CASE("calibrate exits 2 on bad input and 3 on degenerate motion", "[cli][ca
   SaveObservations(scene.dataset, obs);
   CHECK(test::RunHandeye("calibrate " + obs + " -o " + dir + "/r2.json", &out) == 3);
   CHECK(out.find("degenerate robot motion") != std::string::npos);
+}
+
+TEST_CASE("calibrate --observations-out writes what detect writes; calibrating from it gives the same result",
+          "[cli][calibrate]") {
+  const std::string dir = test::TempDir("calibrate_cli_observations_out");
+  std::string out;
+  REQUIRE(test::RunHandeye("simulate " + dir + "/sim --cell small --cameras 2 --poses 8 --seed 6 --image-size 960x540",
+                           &out) == 0);
+  INFO(out);
+  REQUIRE(test::RunHandeye("calibrate " + dir + "/sim/dataset.json -o " + dir + "/from_images.json --observations-out " +
+                               dir + "/obs.json",
+                           &out) == 0);
+  CHECK(out.find("wrote " + dir + "/obs.json") != std::string::npos);
+  // The same file as `handeye detect` writes for the dataset.
+  REQUIRE(test::RunHandeye("detect " + dir + "/sim/dataset.json -o " + dir + "/detected.json", &out) == 0);
+  const nlohmann::json written = ReadJsonFile(dir + "/obs.json");
+  CHECK(written["format"] == "handeye-observations/1");
+  CHECK(written == ReadJsonFile(dir + "/detected.json"));
+  CHECK(written["observations"].size() > 8);
+
+  REQUIRE(test::RunHandeye("calibrate " + dir + "/obs.json -o " + dir + "/from_obs.json", &out) == 0);
+  const nlohmann::json from_images = ReadJsonFile(dir + "/from_images.json");
+  const nlohmann::json from_obs = ReadJsonFile(dir + "/from_obs.json");
+  // The observations are written with round-trip precision: the same numbers
+  // in, the same solve, up to the summation order of the solver's threads.
+  const auto max_difference = [](const nlohmann::json& a, const nlohmann::json& b) {
+    double worst = 0;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) worst = std::max(worst, std::abs(a[r][c].get<double>() - b[r][c].get<double>()));
+    return worst;
+  };
+  REQUIRE(from_obs["cameras"].size() == 2);
+  for (const auto& [name, camera] : from_images["cameras"].items()) {
+    INFO(name);
+    REQUIRE(from_obs["cameras"].contains(name));
+    CHECK(from_obs["cameras"][name]["views"] == camera["views"]);
+    CHECK(max_difference(from_obs["cameras"][name]["T_base_cam"], camera["T_base_cam"]) < 1e-9);
+  }
+  CHECK(max_difference(from_obs["T_ee_target"], from_images["T_ee_target"]) < 1e-9);
+  CHECK(std::abs(from_obs["metrics"]["rms_px"].get<double>() - from_images["metrics"]["rms_px"].get<double>()) < 1e-9);
+}
+
+TEST_CASE("calibrate --observations-out into a missing folder exits 2 before detecting", "[cli][calibrate]") {
+  const std::string dir = test::TempDir("calibrate_cli_observations_out_errors");
+  std::string out;
+  REQUIRE(test::RunHandeye("simulate " + dir + "/sim --cell small --cameras 1 --poses 4 --seed 2 --image-size 480x270",
+                           &out) == 0);
+  CHECK(test::RunHandeye("calibrate " + dir + "/sim/dataset.json -o " + dir + "/r.json --observations-out " + dir +
+                             "/no/such/obs.json",
+                         &out) == 2);
+  CHECK(out.find("--observations-out: cannot write: its folder does not exist") != std::string::npos);
+  CHECK(out.find("detecting") == std::string::npos);
 }

@@ -26,6 +26,7 @@ TEST_CASE("Numeric options say what they expect", "[tools][cli][bad]") {
       {"detect {in}", "--threads", "1.5", "0 (all cores) or a positive count"},
       {"calibrate {in}", "--threads", "-1", "0 (all cores) or a positive count"},
       {"calibrate {in}", "--cauchy-scale", "-1", "0 (from the residuals) or a positive scale in pixels"},
+      {"calibrate {in}", "--robot-sigma-mm", "-0.5", "a non-negative sigma in mm"},
       {"calibrate {in}", "--cauchy-scale", "nan", "0 (from the residuals) or a positive scale in pixels"},
       {"report {in} {in}", "--threads", "x", "0 (all cores) or a positive count"},
       {"simulate {sim}", "--threads", "-2", "0 (all cores) or a positive count"},

@@ -3,8 +3,10 @@
 // are options, and bad input exits 2 naming what is wrong. The formats' exact
 // content is tested in tests/io/export_test.cc.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include "handeye/core/transform.h"
 #include "handeye/io/result_json.h"
@@ -71,4 +73,63 @@ TEST_CASE("export exits 2 on bad input", "[cli][export]") {
   CHECK_THAT(out, Contains(dir + "/missing.json: file does not exist"));
   CHECK(test::RunHandeye("export " + result + " --to urdf -o " + dir + "/no/such/folder/x.urdf", &out) == 2);
   CHECK_THAT(out, Contains("no/such/folder"));
+}
+
+TEST_CASE("export --camera-frame names the optical frame; --optical-only drops the camera link",
+          "[cli][export]") {
+  const std::string dir = test::TempDir("export_cli_camera_frame");
+  const std::string result = WriteResult(dir);
+  std::string out;
+  for (const std::string format : {"ros2-launch", "urdf", "tf-static-yaml", "opencv-yaml"}) {
+    INFO(format);
+    const std::string linked = dir + "/linked." + format, optical = dir + "/optical." + format;
+    // OpenCV YAML names no frames but the optical one; its body-frame matrix is a key.
+    const std::string link = format == "opencv-yaml" ? "T_base_cam_link" : "cam0_link";
+    REQUIRE(test::RunHandeye("export " + result + " --to " + format +
+                                 " --camera-frame cam0=camera_color_optical_frame -o " + linked,
+                             &out) == 0);
+    CHECK_THAT(Slurp(linked), Contains("camera_color_optical_frame"));
+    CHECK_THAT(Slurp(linked), Contains(link));
+    CHECK_THAT(Slurp(linked), !Contains("cam0_optical_frame"));
+    REQUIRE(test::RunHandeye("export " + result + " --to " + format +
+                                 " --optical-only --camera-frame cam0=camera_color_optical_frame -o " + optical,
+                             &out) == 0);
+    CHECK_THAT(out, Contains("as optical frames only"));
+    CHECK_THAT(Slurp(optical), Contains("camera_color_optical_frame"));
+    CHECK_THAT(Slurp(optical), !Contains(link));
+  }
+  // tf_static: one transform per camera, straight from the base, plus the target.
+  const nlohmann::json tf = ReadYamlFile(dir + "/optical.tf-static-yaml");
+  REQUIRE(tf["transforms"].size() == 2);
+  CHECK(tf["transforms"][0]["header"]["frame_id"] == "base_link");
+  CHECK(tf["transforms"][0]["child_frame_id"] == "camera_color_optical_frame");
+  const auto& t = tf["transforms"][0]["transform"]["translation"];
+  CHECK(std::abs(t["x"].get<double>() - -1.2) < 1e-12);
+  CHECK(std::abs(t["y"].get<double>() - 1.9) < 1e-12);
+  CHECK(std::abs(t["z"].get<double>() - 1.15) < 1e-12);
+}
+
+TEST_CASE("export exits 2 on a bad --camera-frame, naming the flag", "[cli][export]") {
+  const std::string dir = test::TempDir("export_cli_camera_frame_errors");
+  const std::string result = WriteResult(dir);
+  const std::string run = "export " + result + " --to tf-static-yaml -o " + dir + "/x.yaml --camera-frame ";
+  const std::pair<std::string, std::string> cases[] = {
+      {"cam0", "--camera-frame 'cam0': expected CAMERA=FRAME"},
+      {"=camera_color_optical_frame", "the camera name before '=' is empty"},
+      {"cam0=", "--camera-frame 'cam0=': the frame name after '=' is empty"},
+      {"'cam0=color frame'", "--camera-frame 'cam0=color frame': frame 'color frame' of camera 'cam0' is not a frame name"},
+      {"cam9=camera_color_optical_frame",
+       "--camera-frame 'cam9=camera_color_optical_frame': " + result + " has no camera 'cam9' (its cameras: cam0, cam1)"},
+      {"cam0=a --camera-frame cam0=b", "--camera-frame 'cam0=b': camera 'cam0' is given a frame twice"},
+      {"cam0=a --camera-frame cam1=a", "--camera-frame 'cam1=a': frame 'a' is already given to camera 'cam0'"},
+      {"cam0=base_link", "frame 'base_link' is the name of a robot or target frame"},
+  };
+  for (const auto& [value, message] : cases) {
+    INFO(value);
+    std::string out;
+    CHECK(test::RunHandeye(run + value, &out) == 2);
+    CHECK_THAT(out, Contains(message));
+  }
+  std::ifstream written(dir + "/x.yaml");
+  CHECK_FALSE(written.good());
 }

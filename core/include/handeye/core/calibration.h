@@ -23,7 +23,12 @@ enum class Method {
   kPerCamera,  ///< the same reprojection solve, one Z per camera (Evangelista et al.)
   kTsai, kPark, kHoraud, kAndreff, kDaniilidis,  ///< OpenCV calibrateHandEye, per camera
   kShah, kLi,  ///< OpenCV calibrateRobotWorldHandEye, per camera
-  kVisp,       ///< ViSP vpHandEyeCalibration, per camera
+  /// ViSP vpHandEyeCalibration, per camera. ViSP 3.5 always prints its
+  /// residuals to standard output, so Calibrate() points file descriptor 1 at
+  /// /dev/null around that call, one call at a time (a process-wide lock):
+  /// what other threads write to stdout meanwhile is lost. No other method
+  /// touches stdout.
+  kVisp,
 };
 /// The `--method` name of a method, e.g. "joint".
 const char* MethodName(Method method);
@@ -31,6 +36,18 @@ const char* MethodName(Method method);
 std::optional<Method> ParseMethod(const std::string& name);
 /// Every method name, in the order of the paper's tables.
 std::vector<std::string> MethodNames();
+
+/// Groups of intrinsics the joint solve can refine (SPEC §7 `--refine-intrinsics`), bit flags.
+enum IntrinsicsGroup : unsigned {
+  kNoIntrinsics = 0,
+  kFocal = 1,           ///< fx, fy
+  kPrincipalPoint = 2,  ///< cx, cy
+  kDistortion = 4,      ///< k1, k2, p1, p2 and every further non-zero coefficient given (not the tilt)
+  kAllIntrinsics = 7,
+};
+/// Parses a comma-separated list of `focal`, `principal_point`, `distortion`,
+/// or `all`; nullopt with the reason in *why.
+std::optional<unsigned> ParseIntrinsicsGroups(const std::string& list, std::string* why);
 
 /// How Calibrate() solves. Defaults are the paper's method.
 struct CalibrationOptions {
@@ -63,6 +80,13 @@ struct CalibrationOptions {
   double step_tolerance_deg = 1e-5;
   /// Threads for Ceres.
   int threads = 1;
+  /// IntrinsicsGroup flags: those intrinsics of every camera become unknowns
+  /// of the joint solve, started from the given values (joint method only).
+  /// Cameras without intrinsics have all of them estimated whatever this says.
+  unsigned refine_intrinsics = kNoIntrinsics;
+  /// After the solve, check each camera's focal length and principal point
+  /// against what its views say, and warn when they disagree (intrinsics not refined).
+  bool check_intrinsics = true;
 
   /// False, with the reason in `*why`, when a value is out of its domain
   /// (negative scale, non-positive iterations or threads, …). Calibrate() checks them
@@ -83,6 +107,20 @@ struct ViewResult {
   bool outlier = false;
 };
 
+/// A camera's intrinsics as the joint solve refined (or estimated) them.
+struct IntrinsicsResult {
+  /// The refined camera (same name and size; distortion with at least the
+  /// coefficients given, 5 when none were), ready to be written back.
+  Camera camera;
+  /// 1σ of each parameter (OpenCVCameraModel order), scaled by the residuals
+  /// seen; 0 for parameters held fixed.
+  std::array<double, OpenCVCameraModel::kNumParams> sigma{};
+  /// Parameter names (fx, cy, k1, …) that were unknowns of the final solve.
+  std::vector<std::string> refined;
+  /// Parameters asked for that the views could not determine: held at the given value.
+  std::vector<std::string> undetermined;
+};
+
 /// The calibration of one camera.
 struct CameraResult {
   std::string name;  ///< Camera::name
@@ -94,6 +132,8 @@ struct CameraResult {
   double rms_px = 0;       ///< reprojection RMS over the camera's used views, pixels
   int views = 0;           ///< views used
   int views_rejected = 0;
+  /// With intrinsics refinement (or a camera without intrinsics): the result.
+  std::optional<IntrinsicsResult> intrinsics;
 };
 
 /// T_camk_camt of a pair of cameras that saw the target at the same pose.
@@ -145,7 +185,8 @@ struct CalibrationResult {
 };
 
 /// Calibrates from the dataset's observations (detect first for images).
-/// Reentrant: calls on different datasets may run at the same time.
+/// Reentrant: calls may run at the same time, and nothing is written to
+/// standard output (for Method::kVisp see its note).
 /// Throws InputError for inconsistent input and SolveError when the problem
 /// cannot be solved (too few views, degenerate motion, a failed solve). A
 /// solve that hits the iteration limit is returned with a warning.

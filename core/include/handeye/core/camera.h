@@ -84,6 +84,9 @@ struct Camera {
   /// How many distortion coefficients the input gave (0, 4, 5, 8, 12 or 14);
   /// kept so a file is written back the way it was read.
   int num_distortion = 0;
+  /// False when the dataset gave no intrinsics (only the image size): params
+  /// are then a placeholder until Calibrate() estimates them from the views.
+  bool has_intrinsics = true;
 
   /// Builds a camera; `distortion` must have 0, 4, 5, 8, 12 or 14 entries.
   /// Returns nullopt and says why when it has not, or an entry is not finite,
@@ -98,6 +101,8 @@ struct Camera {
   double cy() const { return params[3]; }  ///< principal point, pixels
   /// The distortion coefficients as given (num_distortion entries).
   std::vector<double> Distortion() const;
+  /// The name of parameter `index` in OpenCVCameraModel order ("fx", "k1", "tau_x", …).
+  static const char* ParamName(int index);
   /// True when a distortion coefficient is non-zero.
   bool HasDistortion() const;
 

@@ -98,9 +98,10 @@ inline void ComposeJacobians(const double* a, const double* b, Matrix7* d_a, Mat
 }
 
 /// Residual of point i through T_cam_target (a pose block), robustified.
-template <typename T>
-bool ProjectPoint(const std::array<double, OpenCVCameraModel::kNumParams>& intrinsics, const ViewPoints& view,
-                  size_t i, double cauchy_scale_px, const T* T_cam_target, T* residual) {
+/// `intrinsics`: OpenCVCameraModel parameters (double, or jets when they are unknowns).
+template <typename T, typename U>
+bool ProjectPoint(const U* intrinsics, const ViewPoints& view, size_t i, double cauchy_scale_px,
+                  const T* T_cam_target, T* residual) {
   T params[OpenCVCameraModel::kNumParams];
   for (int k = 0; k < OpenCVCameraModel::kNumParams; ++k) params[k] = T(intrinsics[k]);
   const T p[3] = {T(view.p_target[i].x()), T(view.p_target[i].y()), T(view.p_target[i].z())};
@@ -125,12 +126,36 @@ bool ProjectPoint(const std::array<double, OpenCVCameraModel::kNumParams>& intri
 }
 
 /// Residuals of every point of the view through T_cam_target.
-template <typename T>
-bool ProjectView(const std::array<double, OpenCVCameraModel::kNumParams>& intrinsics, const ViewPoints& view,
-                 double cauchy_scale_px, const T* T_cam_target, T* residuals) {
+template <typename T, typename U>
+bool ProjectView(const U* intrinsics, const ViewPoints& view, double cauchy_scale_px, const T* T_cam_target,
+                 T* residuals) {
   for (size_t i = 0; i < view.p_target.size(); ++i)
     if (!ProjectPoint(intrinsics, view, i, cauchy_scale_px, T_cam_target, residuals + 2 * i)) return false;
   return true;
+}
+
+/// The per-point Cauchy scaling of ProjectPoint applied to a residual r in
+/// place, with its derivative d(out)/dr; identity when `cauchy_scale_px` <= 0.
+inline Eigen::Matrix2d ApplyCauchy(double cauchy_scale_px, Eigen::Vector2d* r) {
+  if (!(cauchy_scale_px > 0)) return Eigen::Matrix2d::Identity();
+  // out = g(x)·r, g = sqrt(ratio(x)), ratio = log1p(x)/x, x = |r|²/a²; the
+  // same series as ProjectPoint near 0.
+  const double a2 = cauchy_scale_px * cauchy_scale_px;
+  const double xc = r->squaredNorm() / a2;
+  double ratio, d_ratio;
+  if (xc < 1e-8) {
+    ratio = 1.0 - xc / 2.0 + xc * xc / 3.0;
+    d_ratio = -0.5 + 2.0 * xc / 3.0;
+  } else {
+    ratio = std::log1p(xc) / xc;
+    d_ratio = (1.0 / (1.0 + xc) - ratio) / xc;
+  }
+  const double g = std::sqrt(ratio);
+  const double d_g = d_ratio / (2.0 * g);  // dg/dx
+  // d(g·r)/dr = g·I + r · (dg/dx · 2 rᵀ / a²)
+  const Eigen::Matrix2d d_out_d_r = g * Eigen::Matrix2d::Identity() + (2.0 * d_g / a2) * (*r) * r->transpose();
+  *r *= g;
+  return d_out_d_r;
 }
 
 /// The intrinsics as constant jets over the two normalised coordinates.
@@ -158,29 +183,54 @@ inline bool ProjectPointWithJacobian(const IntrinsicsJet2& intrinsics, const dou
   d_xy_d_p << inv_z, 0.0, -x * inv_z, 0.0, inv_z, -y * inv_z;
   Eigen::Vector2d r(fx * xd.a + intrinsics[2].a - observed_px.x(),
                     fy * yd.a + intrinsics[3].a - observed_px.y());
-  Eigen::Matrix<double, 2, 2> d_out_d_r = Eigen::Matrix2d::Identity();
-  if (cauchy_scale_px > 0) {
-    // out = g(x)·r, g = sqrt(ratio(x)), ratio = log1p(x)/x, x = |r|²/a²; the
-    // same series as ProjectPoint near 0.
-    const double a2 = cauchy_scale_px * cauchy_scale_px;
-    const double xc = r.squaredNorm() / a2;
-    double ratio, d_ratio;
-    if (xc < 1e-8) {
-      ratio = 1.0 - xc / 2.0 + xc * xc / 3.0;
-      d_ratio = -0.5 + 2.0 * xc / 3.0;
-    } else {
-      ratio = std::log1p(xc) / xc;
-      d_ratio = (1.0 / (1.0 + xc) - ratio) / xc;
-    }
-    const double g = std::sqrt(ratio);
-    const double d_g = d_ratio / (2.0 * g);  // dg/dx
-    // d(g·r)/dr = g·I + r · (dg/dx · 2 rᵀ / a²)
-    d_out_d_r = g * Eigen::Matrix2d::Identity() + (2.0 * d_g / a2) * r * r.transpose();
-    r *= g;
-  }
+  const Eigen::Matrix2d d_out_d_r = ApplyCauchy(cauchy_scale_px, &r);
   residual[0] = r.x();
   residual[1] = r.y();
   d_residual_d_p_cam->noalias() = d_out_d_r * (d_uv_d_xy * d_xy_d_p);
+  return true;
+}
+
+/// Derivative of a residual with respect to the 18 intrinsics (row-major, as
+/// Ceres stores a parameter block's Jacobian).
+using IntrinsicsJacobian = Eigen::Matrix<double, 2, OpenCVCameraModel::kNumParams, Eigen::RowMajor>;
+
+/// The same with the intrinsics as unknowns: also d(residual)/d(intrinsics).
+/// The distortion goes through jets over the two normalised coordinates and
+/// the 14 coefficients; focal length and principal point enter linearly.
+inline bool ProjectPointWithIntrinsicsJacobian(const double* intrinsics, const double* p_cam,
+                                               const Eigen::Vector2d& observed_px, double cauchy_scale_px,
+                                               double* residual, Eigen::Matrix<double, 2, 3>* d_residual_d_p_cam,
+                                               IntrinsicsJacobian* d_residual_d_intrinsics) {
+  constexpr int kDist = OpenCVCameraModel::kNumDistortion;
+  using Jet = ceres::Jet<double, 2 + kDist>;
+  if (!(p_cam[2] > 0)) return false;
+  const double inv_z = 1.0 / p_cam[2];
+  const double x = p_cam[0] / p_cam[2], y = p_cam[1] / p_cam[2];
+  Jet params[OpenCVCameraModel::kNumParams];
+  for (int k = 0; k < 4; ++k) params[k] = Jet(intrinsics[k]);
+  for (int k = 0; k < kDist; ++k) params[4 + k] = Jet(intrinsics[4 + k], 2 + k);
+  Jet xd, yd;
+  OpenCVCameraModel::Distort(params, Jet(x, 0), Jet(y, 1), &xd, &yd);
+  const double fx = intrinsics[0], fy = intrinsics[1];
+  Eigen::Matrix<double, 2, 2> d_uv_d_xy;
+  d_uv_d_xy << fx * xd.v[0], fx * xd.v[1], fy * yd.v[0], fy * yd.v[1];
+  Eigen::Matrix<double, 2, 3> d_xy_d_p;
+  d_xy_d_p << inv_z, 0.0, -x * inv_z, 0.0, inv_z, -y * inv_z;
+  IntrinsicsJacobian d_uv_d_k = IntrinsicsJacobian::Zero();
+  d_uv_d_k(0, 0) = xd.a;
+  d_uv_d_k(1, 1) = yd.a;
+  d_uv_d_k(0, 2) = 1.0;
+  d_uv_d_k(1, 3) = 1.0;
+  for (int k = 0; k < kDist; ++k) {
+    d_uv_d_k(0, 4 + k) = fx * xd.v[2 + k];
+    d_uv_d_k(1, 4 + k) = fy * yd.v[2 + k];
+  }
+  Eigen::Vector2d r(fx * xd.a + intrinsics[2] - observed_px.x(), fy * yd.a + intrinsics[3] - observed_px.y());
+  const Eigen::Matrix2d d_out_d_r = ApplyCauchy(cauchy_scale_px, &r);
+  residual[0] = r.x();
+  residual[1] = r.y();
+  d_residual_d_p_cam->noalias() = d_out_d_r * (d_uv_d_xy * d_xy_d_p);
+  d_residual_d_intrinsics->noalias() = d_out_d_r * d_uv_d_k;
   return true;
 }
 
@@ -195,25 +245,30 @@ inline bool ProjectPointWithJacobian(const IntrinsicsJet2& intrinsics, const dou
 /// `void operator()(const T* const* blocks, T* T_cam_target) const` and
 /// `void Jacobian(const double* const* blocks, double* T_cam_target,
 /// Eigen::Matrix<double, 7, 7 * kBlocks>* d) const`.
+/// With `free_intrinsics`, the camera's 18 intrinsics are one more parameter
+/// block (the last), in OpenCVCameraModel order.
 /// The view's points are shared, not copied: the joint solve makes one block
 /// per camera pair for each view.
 template <int kBlocks, typename Chain>
 class ChainedViewCost : public ceres::CostFunction {
  public:
   ChainedViewCost(const Camera& camera, std::shared_ptr<const ViewPoints> points, double cauchy_scale_px,
-                  Chain chain)
-      : intrinsics_(camera.params), view_(std::move(points)), cauchy_scale_px_(cauchy_scale_px), chain_(chain) {
+                  Chain chain, bool free_intrinsics = false)
+      : intrinsics_(camera.params), view_(std::move(points)), cauchy_scale_px_(cauchy_scale_px), chain_(chain),
+        free_intrinsics_(free_intrinsics) {
     for (int k = 0; k < OpenCVCameraModel::kNumParams; ++k)
       intrinsics_jet_[k] = ceres::Jet<double, 2>(intrinsics_[k]);
     set_num_residuals(2 * static_cast<int>(view_->p_target.size()));
     for (int b = 0; b < kBlocks; ++b) mutable_parameter_block_sizes()->push_back(7);
+    if (free_intrinsics_) mutable_parameter_block_sizes()->push_back(OpenCVCameraModel::kNumParams);
   }
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const double* intrinsics = free_intrinsics_ ? parameters[kBlocks] : intrinsics_.data();
     if (!jacobians) {
       double pose[7];
       chain_(parameters, pose);
-      return ProjectView(intrinsics_, *view_, cauchy_scale_px_, pose, residuals);
+      return ProjectView(intrinsics, *view_, cauchy_scale_px_, pose, residuals);
     }
     constexpr int kParams = 7 * kBlocks;
     using Jacobian3 = Eigen::Matrix<double, 3, kParams>;
@@ -227,14 +282,23 @@ class ChainedViewCost : public ceres::CostFunction {
     const Jacobian3 H_t = d_pose.template bottomRows<3>();
 
     using RowMajor2x7 = Eigen::Matrix<double, 2, 7, Eigen::RowMajor>;
+    double* d_intrinsics = free_intrinsics_ ? jacobians[kBlocks] : nullptr;
     for (size_t i = 0; i < view_->p_target.size(); ++i) {
       const Eigen::Vector3d& p = view_->p_target[i];
       double p_cam[3];
       TransformPoint(pose, p.data(), p_cam);
       Eigen::Matrix<double, 2, 3> d_r_d_p;
-      if (!ProjectPointWithJacobian(intrinsics_jet_, p_cam, view_->observed_px[i], cauchy_scale_px_,
-                                    residuals + 2 * i, &d_r_d_p))
+      if (free_intrinsics_) {
+        IntrinsicsJacobian d_r_d_k;
+        if (!ProjectPointWithIntrinsicsJacobian(intrinsics, p_cam, view_->observed_px[i], cauchy_scale_px_,
+                                                residuals + 2 * i, &d_r_d_p, &d_r_d_k))
+          return false;
+        if (d_intrinsics)
+          Eigen::Map<IntrinsicsJacobian>(d_intrinsics + 2 * OpenCVCameraModel::kNumParams * i) = d_r_d_k;
+      } else if (!ProjectPointWithJacobian(intrinsics_jet_, p_cam, view_->observed_px[i], cauchy_scale_px_,
+                                           residuals + 2 * i, &d_r_d_p)) {
         return false;
+      }
       Jacobian3 d_p_d_params = H_t;
       d_p_d_params.noalias() += p.x() * H[0] + p.y() * H[1] + p.z() * H[2];
       const Eigen::Matrix<double, 2, kParams> J = d_r_d_p * d_p_d_params;
@@ -250,6 +314,7 @@ class ChainedViewCost : public ceres::CostFunction {
   std::shared_ptr<const ViewPoints> view_;
   double cauchy_scale_px_;
   Chain chain_;
+  bool free_intrinsics_;
 };
 
 /// X · M · Z: blocks X, Z.
@@ -327,10 +392,11 @@ struct RobotChain {
 /// c_rpj of one view with the robot pose as a parameter block: X_k · M_j · Z.
 /// Parameters X_k (or a pair's Y_kt), M_j, Z. Residuals: 2 per point (pixels).
 struct ViewReprojectionWithRobotError {
+  /// With `free_intrinsics`, a fourth block: the camera's 18 intrinsics.
   static ceres::CostFunction* Create(const Camera& camera, std::shared_ptr<const ViewPoints> points,
-                                     double cauchy_scale_px) {
+                                     double cauchy_scale_px, bool free_intrinsics = false) {
     return new cost_internal::ChainedViewCost<3, cost_internal::RobotChain>(camera, std::move(points),
-                                                                             cauchy_scale_px, {});
+                                                                             cauchy_scale_px, {}, free_intrinsics);
   }
   /// The same cost through ceres::AutoDiffCostFunction (reference for tests).
   static ceres::CostFunction* CreateAutoDiff(const Camera& camera, ViewPoints points, double cauchy_scale_px) {
@@ -343,7 +409,7 @@ struct ViewReprojectionWithRobotError {
     const T* blocks[3] = {X, M, Z};
     T pose[7];
     cost_internal::RobotChain{}(blocks, pose);
-    return cost_internal::ProjectView(intrinsics, view, cauchy_scale_px, pose, residuals);
+    return cost_internal::ProjectView(intrinsics.data(), view, cauchy_scale_px, pose, residuals);
   }
   std::array<double, OpenCVCameraModel::kNumParams> intrinsics;
   ViewPoints view;
@@ -408,7 +474,15 @@ struct ViewReprojectionError {
     const T* blocks[2] = {X, Z};
     T pose[7];
     cost_internal::DirectChain{M}(blocks, pose);
-    return cost_internal::ProjectView(intrinsics, view, cauchy_scale_px, pose, residuals);
+    return cost_internal::ProjectView(intrinsics.data(), view, cauchy_scale_px, pose, residuals);
+  }
+  /// The same with the intrinsics as a third block (autodiff reference).
+  template <typename T>
+  bool operator()(const T* X, const T* Z, const T* K, T* residuals) const {
+    const T* blocks[2] = {X, Z};
+    T pose[7];
+    cost_internal::DirectChain{M}(blocks, pose);
+    return cost_internal::ProjectView(K, view, cauchy_scale_px, pose, residuals);
   }
 
   /// The cost with chain-rule derivatives (same values as autodiff of
@@ -418,16 +492,26 @@ struct ViewReprojectionError {
     return Create(camera, M, std::make_shared<const ViewPoints>(std::move(points)), cauchy_scale_px);
   }
   /// The same, sharing the view's points with other blocks (the cross terms of the view).
+  /// With `free_intrinsics`, a third block: the camera's 18 intrinsics.
   static ceres::CostFunction* Create(const Camera& camera, const Eigen::Isometry3d& M,
-                                     std::shared_ptr<const ViewPoints> points, double cauchy_scale_px) {
+                                     std::shared_ptr<const ViewPoints> points, double cauchy_scale_px,
+                                     bool free_intrinsics = false) {
     return new cost_internal::ChainedViewCost<2, cost_internal::DirectChain>(
-        camera, std::move(points), cauchy_scale_px, cost_internal::DirectChain{ToPoseParams(M)});
+        camera, std::move(points), cauchy_scale_px, cost_internal::DirectChain{ToPoseParams(M)}, free_intrinsics);
   }
   /// The same cost through ceres::AutoDiffCostFunction (reference for tests).
   static ceres::CostFunction* CreateAutoDiff(const Camera& camera, const Eigen::Isometry3d& M, ViewPoints points,
                                              double cauchy_scale_px) {
     const int residuals = 2 * static_cast<int>(points.p_target.size());
     return new ceres::AutoDiffCostFunction<ViewReprojectionError, ceres::DYNAMIC, 7, 7>(
+        new ViewReprojectionError(camera, M, std::move(points), cauchy_scale_px), residuals);
+  }
+  /// The same with the intrinsics as a third block, through autodiff (reference for tests).
+  static ceres::CostFunction* CreateAutoDiffWithIntrinsics(const Camera& camera, const Eigen::Isometry3d& M,
+                                                           ViewPoints points, double cauchy_scale_px) {
+    const int residuals = 2 * static_cast<int>(points.p_target.size());
+    return new ceres::AutoDiffCostFunction<ViewReprojectionError, ceres::DYNAMIC, 7, 7,
+                                           OpenCVCameraModel::kNumParams>(
         new ViewReprojectionError(camera, M, std::move(points), cauchy_scale_px), residuals);
   }
 
@@ -453,7 +537,7 @@ struct ViewCrossReprojectionError {
     const T* blocks[3] = {T_camk_camt, X_t, Z};
     T pose[7];
     cost_internal::CrossChain{direct.M}(blocks, pose);
-    return cost_internal::ProjectView(direct.intrinsics, direct.view, direct.cauchy_scale_px, pose, residuals);
+    return cost_internal::ProjectView(direct.intrinsics.data(), direct.view, direct.cauchy_scale_px, pose, residuals);
   }
 
   /// The cost with chain-rule derivatives (see ViewReprojectionError::Create).

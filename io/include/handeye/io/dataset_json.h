@@ -42,6 +42,14 @@ Dataset DatasetFromJson(const nlohmann::json& document, const std::string& path,
 
 /// Writes `handeye-dataset/1`; image paths are written relative to the file's folder.
 void SaveDataset(const Dataset& dataset, const std::string& path);
+
+class JsonReader;
+/// A camera's "intrinsics" and "distortion" in the dataset's form (SPEC §4),
+/// set on `object` (the result file uses them for refined intrinsics too).
+void WriteIntrinsicsJson(const Camera& camera, nlohmann::ordered_json* object);
+/// Reads "intrinsics" and "distortion" of `object` (that form) into a camera
+/// of the given name and size; throws InputError naming the key.
+Camera ReadIntrinsicsJson(const JsonReader& object, const std::string& name, int width, int height);
 /// Writes `handeye-observations/1` (no images, with observations).
 void SaveObservations(const Dataset& dataset, const std::string& path);
 

@@ -15,6 +15,14 @@
 /// so that parent → `cam0_optical_frame` is exactly the calibrated T_base_cam
 /// (eye_to_hand, parent = the base frame) or T_ee_cam (eye_in_hand, parent =
 /// the ee frame: a camera on the robot is static only relative to the flange).
+/// ExportOptions::camera_frames renames a camera's optical frame (e.g. to the
+/// `camera_color_optical_frame` its driver uses). With
+/// ExportOptions::optical_only each camera is one transform, parent →
+/// optical frame, and there is no `<camera>_link` (what easy_handeye and
+/// MoveIt Calibration publish): for drivers that publish their own body →
+/// optical transform, which a second `<camera>_link` parent would contradict.
+/// The optical frame then still needs a single parent in the TF tree: the
+/// driver's own body → optical transform must not be published too.
 /// The target gets ee → target (eye_to_hand) or base → target (eye_in_hand).
 /// Lengths in metres, quaternions (x, y, z, w) with w ≥ 0, numbers printed
 /// with 17 significant digits (they read back to the same double).
@@ -33,12 +41,13 @@
 ///   geometry_msgs/TransformStamped), as `ros2 topic echo /tf_static` prints
 ///   and `ros2 topic pub` accepts.
 /// - `opencv-yaml`: cv::FileStorage YAML with 4×4 matrices (`!!opencv-matrix`)
-///   per camera: T_<parent>_cam (optical frame, the OpenCV camera frame) and
-///   T_<parent>_cam_link; plus the target's transform.
+///   per camera: T_<parent>_cam (optical frame, the OpenCV camera frame) and,
+///   unless optical_only, T_<parent>_cam_link; plus the target's transform.
 ///
 /// Thread safety: the functions are reentrant (no shared state).
 
 #include <Eigen/Geometry>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -63,6 +72,12 @@ struct ExportOptions {
   std::string base_frame = "base_link";            ///< the robot base (REP-105 base_link)
   std::string ee_frame = "tool0";                  ///< the frame the robot reports (ROS-Industrial tool0)
   std::string target_frame = "calibration_target"; ///< the calibration target
+  /// The optical frame's name of a camera (camera name → frame name), for a
+  /// camera whose driver names its frames; unlisted cameras get
+  /// `<camera>_optical_frame`. Every key must be a camera of the result.
+  std::map<std::string, std::string> camera_frames;
+  /// One transform per camera, parent → optical frame, and no `<camera>_link`.
+  bool optical_only = false;
 
   /// False, with the reason, when a frame name is not valid or two are equal.
   bool Check(std::string* why) const;
@@ -82,11 +97,13 @@ struct StaticTransform {
 Eigen::Isometry3d OpticalInLink();
 
 /// The transforms to publish for `result`, in camera order: for each
-/// calibrated camera parent → `<name>_link` and `<name>_link` →
-/// `<name>_optical_frame`, then the target's. Cameras that were not
-/// calibrated are left out and named in `warnings` (when given). Throws
-/// InputError (path `/cameras/<name>`) when a camera name is not a valid
-/// frame name, and std::invalid_argument when `options` fails Check().
+/// calibrated camera parent → `<name>_link` and `<name>_link` → its optical
+/// frame (parent → optical frame alone with optical_only), then the target's.
+/// Cameras that were not calibrated are left out and named in `warnings`
+/// (when given). Throws InputError (path `/cameras/<name>`) when a camera name
+/// is not a valid frame name or its frames clash with another frame, InputError
+/// (path `/cameras`) when camera_frames names a camera the result does not
+/// have, and std::invalid_argument when `options` fails Check().
 std::vector<StaticTransform> StaticTransformsOf(const CalibrationResult& result, const ExportOptions& options,
                                                 std::vector<std::string>* warnings = nullptr);
 

@@ -1,0 +1,322 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Intrinsics the hand-eye views determine: which to refine, which the views
+// cannot determine, an estimate for a camera given none, and the check of
+// given intrinsics after a solve.
+#include <ceres/covariance.h>
+#include <ceres/manifold.h>
+#include <ceres/problem.h>
+#include <ceres/product_manifold.h>
+#include <ceres/solver.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <opencv2/calib3d.hpp>
+#include <sstream>
+
+#include "calibration_internal.h"
+#include "handeye/core/cost_functions.h"
+#include "handeye/core/error.h"
+
+namespace handeye::internal {
+namespace {
+
+constexpr int kN = OpenCVCameraModel::kNumParams;
+using Intrinsics = std::array<double, kN>;
+
+/// The prior of refined intrinsics: 1σ of each parameter moves an image
+/// corner by this many pixels (focal length ≈ 2 %, principal point 20 px, k1
+/// ≈ 0.03 on a 1920×1080 image with a 70° lens): loose enough for the errors
+/// of factory intrinsics, firm enough to keep what the views cannot tell.
+constexpr double kPriorCornerPx = 20.0;
+
+/// Normalised coordinates of the image's four corners (through the inverse
+/// distortion where it converges, else the pinhole).
+std::vector<Eigen::Vector2d> CornerRays(const Camera& camera) {
+  std::vector<Eigen::Vector2d> rays;
+  for (double u : {0.0, camera.width - 1.0})
+    for (double v : {0.0, camera.height - 1.0}) {
+      const auto xy = camera.Undistort({u, v});
+      rays.push_back(xy ? *xy : Eigen::Vector2d((u - camera.cx()) / camera.fx(), (v - camera.cy()) / camera.fy()));
+    }
+  return rays;
+}
+
+}  // namespace
+
+std::vector<int> FreeIntrinsics(const Camera& camera, unsigned groups) {
+  std::vector<int> free;
+  if (groups & kFocal) free.insert(free.end(), {0, 1});
+  if (groups & kPrincipalPoint) free.insert(free.end(), {2, 3});
+  if (groups & kDistortion) {
+    free.insert(free.end(), {4, 5, 6, 7});
+    // Higher-order terms only where the given model uses them; never the tilt
+    // (its derivative at zero tilt is not modelled).
+    for (int p = 8; p < 16; ++p)
+      if (camera.params[p] != 0.0) free.push_back(p);
+  }
+  return free;
+}
+
+namespace {
+
+/// Largest pixel shift at an image corner per unit of each parameter.
+Intrinsics CornerEffect(const Camera& camera) {
+  Intrinsics effect{};
+  for (const Eigen::Vector2d& xy : CornerRays(camera)) {
+    const double p_cam[3] = {xy.x(), xy.y(), 1.0};
+    double residual[2];
+    Eigen::Matrix<double, 2, 3> d_p;
+    cost_internal::IntrinsicsJacobian d_k;
+    if (!cost_internal::ProjectPointWithIntrinsicsJacobian(camera.params.data(), p_cam, Eigen::Vector2d::Zero(),
+                                                           0.0, residual, &d_p, &d_k))
+      continue;
+    for (int p = 0; p < kN; ++p) effect[p] = std::max(effect[p], d_k.col(p).norm());
+  }
+  return effect;
+}
+
+/// (K[free] − given[free]) / σ_prior · σ_pixel per free parameter: a Gaussian
+/// prior in the units of the pixel residuals.
+class IntrinsicsPriorCost : public ceres::CostFunction {
+ public:
+  IntrinsicsPriorCost(const Intrinsics& given, std::vector<int> free, std::vector<double> weight)
+      : given_(given), free_(std::move(free)), weight_(std::move(weight)) {
+    set_num_residuals(static_cast<int>(free_.size()));
+    mutable_parameter_block_sizes()->push_back(kN);
+  }
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    for (size_t i = 0; i < free_.size(); ++i) residuals[i] = weight_[i] * (parameters[0][free_[i]] - given_[free_[i]]);
+    if (jacobians && jacobians[0]) {
+      std::fill(jacobians[0], jacobians[0] + free_.size() * kN, 0.0);
+      for (size_t i = 0; i < free_.size(); ++i) jacobians[0][i * kN + free_[i]] = weight_[i];
+    }
+    return true;
+  }
+
+ private:
+  Intrinsics given_;
+  std::vector<int> free_;
+  std::vector<double> weight_;
+};
+
+}  // namespace
+
+double ViewDesignFactor(const ceres::Problem& problem, const std::vector<ceres::ResidualBlockId>& views) {
+  // Per axis: s² over all points, and n·m² per view (m the view's mean
+  // residual), which is s² on average when the points are independent and
+  // grows with an error the view's points share.
+  double sum_sq = 0, sum_view = 0;
+  int points = 0, used = 0;
+  std::vector<double> r;
+  for (ceres::ResidualBlockId id : views) {
+    r.resize(problem.GetCostFunctionForResidualBlock(id)->num_residuals());
+    double cost;
+    if (!problem.EvaluateResidualBlock(id, false, &cost, r.data(), nullptr)) continue;
+    const int n = static_cast<int>(r.size()) / 2;
+    if (n < 2) continue;
+    double mx = 0, my = 0;
+    for (int i = 0; i < n; ++i) {
+      mx += r[2 * i];
+      my += r[2 * i + 1];
+      sum_sq += r[2 * i] * r[2 * i] + r[2 * i + 1] * r[2 * i + 1];
+    }
+    mx /= n;
+    my /= n;
+    sum_view += n * (mx * mx + my * my);
+    points += n;
+    ++used;
+  }
+  if (used < 2 || sum_sq <= 0) return 1.0;
+  return std::max(1.0, (sum_view / used) / (sum_sq / points));
+}
+
+Intrinsics IntrinsicsPriorSigma(const Camera& camera) {
+  const Intrinsics effect = CornerEffect(camera);
+  Intrinsics sigma{};
+  for (int p = 0; p < kN; ++p) sigma[p] = effect[p] > 0 ? kPriorCornerPx / effect[p] : 0.0;
+  return sigma;
+}
+
+ceres::CostFunction* IntrinsicsPrior(const Camera& given, const std::vector<int>& free, double pixel_sigma_px) {
+  const Intrinsics sigma = IntrinsicsPriorSigma(given);
+  std::vector<double> weight;
+  for (int p : free) weight.push_back(sigma[p] > 0 ? pixel_sigma_px / sigma[p] : 0.0);
+  return new IntrinsicsPriorCost(given.params, free, std::move(weight));
+}
+
+std::vector<int> UndeterminedIntrinsics(const Camera& given, const Intrinsics& sigma, const std::vector<int>& free) {
+  const Intrinsics prior = IntrinsicsPriorSigma(given);
+  std::vector<int> undetermined;
+  for (int p : free)
+    if (!(sigma[p] <= 0.5 * prior[p])) undetermined.push_back(p);
+  return undetermined;
+}
+
+Camera EstimateIntrinsics(const Dataset& dataset, int k) {
+  const Camera& camera = dataset.cameras[k];
+  std::vector<const Observation*> views;
+  for (const Observation& obs : dataset.observations)
+    if (obs.camera == camera.name && obs.ids.size() >= 6) views.push_back(&obs);
+  const std::string advice =
+      "; take at least 10 views with the target tilted by 20° or more in different directions and "
+      "covering the image, or give the camera's intrinsics in the dataset";
+  if (views.size() < 3)
+    throw SolveError("camera '" + camera.name + "' has no intrinsics and " + std::to_string(views.size()) +
+                     " views of the target: too few to estimate them" + advice);
+  // OpenCV's calibration grows with the views; 40 spread over the capture are plenty for a start.
+  constexpr size_t kMaxViews = 40;
+  std::vector<std::vector<cv::Point3f>> object;
+  std::vector<std::vector<cv::Point2f>> image;
+  const size_t step = (views.size() + kMaxViews - 1) / kMaxViews;
+  for (size_t i = 0; i < views.size(); i += step) {
+    std::vector<cv::Point3f> o;
+    std::vector<cv::Point2f> im;
+    for (size_t p = 0; p < views[i]->ids.size(); ++p) {
+      const TargetPoint* point = dataset.target->FindPoint(views[i]->ids[p]);
+      if (!point) continue;
+      o.emplace_back(point->p_target.x(), point->p_target.y(), point->p_target.z());
+      im.emplace_back(views[i]->points_px[p].x(), views[i]->points_px[p].y());
+    }
+    object.push_back(o);
+    image.push_back(im);
+  }
+  cv::Mat K, dist, std_intrinsics, std_extrinsics, per_view;
+  std::vector<cv::Mat> rvecs, tvecs;
+  try {
+    // Zhang's closed form from the views' homographies, then Levenberg–Marquardt
+    // over fx, fy, cx, cy, k1, k2, p1, p2 (k3 held at 0: few views cannot tell it).
+    cv::calibrateCamera(object, image, cv::Size(camera.width, camera.height), K, dist, rvecs, tvecs, std_intrinsics,
+                        std_extrinsics, per_view, cv::CALIB_FIX_K3);
+  } catch (const cv::Exception& e) {
+    throw SolveError("camera '" + camera.name + "' has no intrinsics and its views do not determine them (" +
+                     e.err + ")" + advice);
+  }
+  const double fx = K.at<double>(0, 0), fy = K.at<double>(1, 1), cx = K.at<double>(0, 2), cy = K.at<double>(1, 2);
+  const double s_fx = std_intrinsics.at<double>(0), s_fy = std_intrinsics.at<double>(1);
+  const double s_cx = std_intrinsics.at<double>(2), s_cy = std_intrinsics.at<double>(3);
+  const bool determined = fx > 0 && fy > 0 && std::isfinite(s_fx) && std::isfinite(s_cx) && s_fx < 0.05 * fx &&
+                          s_fy < 0.05 * fy && s_cx < 0.05 * camera.width && s_cy < 0.05 * camera.height;
+  if (!determined) {
+    std::ostringstream why;
+    why.precision(3);
+    why << "camera '" << camera.name << "' has no intrinsics and its " << views.size()
+        << " views are too alike to estimate them (fx " << fx << " ± " << s_fx << ", cx " << cx << " ± " << s_cx
+        << " px)" << advice;
+    throw SolveError(why.str());
+  }
+  std::vector<double> coeffs(5, 0.0);
+  for (int i = 0; i < 5 && i < static_cast<int>(dist.total()); ++i) coeffs[i] = dist.at<double>(i);
+  std::string why;
+  auto estimated = Camera::Make(camera.name, camera.width, camera.height, fx, fy, cx, cy, coeffs, &why);
+  if (!estimated) throw SolveError("camera '" + camera.name + "': the intrinsics estimated from its views: " + why);
+  return *estimated;
+}
+
+std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
+                                            const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                                            const TargetPoses& Z, double cauchy_scale_px,
+                                            const std::vector<unsigned>& check,
+                                            const std::optional<RobotPrior>& robot) {
+  using PoseManifold = ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>;
+  const Dataset& dataset = *problem.dataset;
+  std::vector<std::string> warnings;
+  for (size_t k = 0; k < dataset.cameras.size(); ++k) {
+    if (k >= check.size() || !check[k] || !X[k] || problem.camera_views[k].size() < 3) continue;
+    const Camera& camera = dataset.cameras[k];
+    ceres::Problem::Options problem_options;
+    problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
+    ceres::Problem ceres_problem(problem_options);
+    PoseParams X_k = ToPoseParams(*X[k]), Z_k = ToPoseParams(Z[k]);
+    Intrinsics K = camera.params;
+    ceres_problem.AddParameterBlock(X_k.data(), 7, new PoseManifold());
+    ceres_problem.AddParameterBlock(Z_k.data(), 7);
+    ceres_problem.SetManifold(Z_k.data(), new PoseManifold());
+    std::vector<int> constant;
+    for (int p = 4; p < kN; ++p) constant.push_back(p);
+    ceres_problem.AddParameterBlock(K.data(), kN, new ceres::SubsetManifold(kN, constant));
+    // With the robot's pose error modelled, each pose is a block under its
+    // prior, as in the joint solve: a pose's error moves all points of its
+    // view together, which the per-point residuals alone would count as
+    // independent evidence (σ too small, false alarms).
+    std::vector<PoseParams> M(dataset.poses.size());
+    std::vector<ceres::ResidualBlockId> view_blocks;
+    for (int v : problem.camera_views[k]) {
+      const View& view = problem.views[v];
+      auto points = std::make_shared<const ViewPoints>(ViewPoints{view.p_target, view.observation->points_px});
+      if (robot) {
+        double* M_j = M[view.pose].data();
+        M[view.pose] = ToPoseParams(problem.M[view.pose]);
+        ceres_problem.AddParameterBlock(M_j, 7, new PoseManifold());
+        ceres_problem.AddResidualBlock(
+            RobotPosePrior::Create(dataset.poses[view.pose].T_base_ee, dataset.setup == Setup::kEyeInHand,
+                                   robot->sigma_rad, robot->sigma_m, robot->pixel_sigma_px),
+            nullptr, M_j);
+        view_blocks.push_back(ceres_problem.AddResidualBlock(
+            ViewReprojectionWithRobotError::Create(camera, std::move(points), cauchy_scale_px, true), nullptr,
+            {X_k.data(), M_j, Z_k.data(), K.data()}));
+      } else {
+        view_blocks.push_back(ceres_problem.AddResidualBlock(
+            ViewReprojectionError::Create(camera, problem.M[view.pose], std::move(points), cauchy_scale_px, true),
+            nullptr, X_k.data(), Z_k.data(), K.data()));
+      }
+    }
+    ceres::Solver::Options solver;
+    solver.linear_solver_type = robot ? ceres::SPARSE_NORMAL_CHOLESKY : ceres::DENSE_QR;
+    solver.max_num_iterations = 50;
+    solver.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver, &ceres_problem, &summary);
+    if (summary.termination_type == ceres::FAILURE) continue;
+    ceres::Covariance::Options covariance_options;
+    covariance_options.algorithm_type = robot ? ceres::SPARSE_QR : ceres::DENSE_SVD;
+    ceres::Covariance covariance(covariance_options);
+    const std::vector<std::pair<const double*, const double*>> block = {{K.data(), K.data()}};
+    if (!covariance.Compute(block, &ceres_problem)) continue;
+    Eigen::Matrix<double, kN, kN, Eigen::RowMajor> C;
+    covariance.GetCovarianceBlock(K.data(), K.data(), C.data());
+    int dof = 0;
+    std::vector<double*> blocks;
+    ceres_problem.GetParameterBlocks(&blocks);
+    for (double* block : blocks) dof += ceres_problem.ParameterBlockTangentSize(block);
+    const int redundancy = ceres_problem.NumResiduals() - dof;
+    const double variance_factor = (redundancy > 0 ? 2.0 * summary.final_cost / redundancy : 1.0) *
+                                   ViewDesignFactor(ceres_problem, view_blocks);
+    double sigma[4], delta[4];
+    for (int p = 0; p < 4; ++p) {
+      sigma[p] = std::sqrt(std::max(0.0, C(p, p)) * variance_factor);
+      delta[p] = K[p] - camera.params[p];
+    }
+    auto off = [&](int p, double visible) { return std::abs(delta[p]) > std::max(3.0 * sigma[p], visible); };
+    const bool focal_off = (check[k] & kFocal) && (off(0, 0.003 * camera.fx()) || off(1, 0.003 * camera.fy()));
+    const bool centre_off = (check[k] & kPrincipalPoint) && (off(2, 0.5) || off(3, 0.5));
+    if (!focal_off && !centre_off) continue;
+    std::ostringstream w;
+    w << std::fixed;
+    w.precision(1);
+    w << "camera '" << camera.name << "': the images suggest ";
+    std::vector<std::string> groups;
+    if (focal_off) {
+      const double percent = 100.0 * std::max(std::abs(delta[0]) / camera.fx(), std::abs(delta[1]) / camera.fy());
+      w << "fx, fy ≈ " << K[0] << ", " << K[1] << " (± " << std::max(sigma[0], sigma[1]) << " px), " << percent
+        << " % from the given values";
+      groups.push_back("focal");
+    }
+    if (centre_off) {
+      if (focal_off) w << ", and ";
+      w.precision(2);
+      w << "cx, cy ≈ " << K[2] << ", " << K[3] << " (± " << std::max(sigma[2], sigma[3]) << " px), "
+        << std::hypot(delta[2], delta[3]) << " px from the given values";
+      if (std::abs(delta[2] + 1.0) < 0.35 && std::abs(delta[3] + 1.0) < 0.35) w << "; a 1-based principal point?";
+      groups.push_back("principal_point");
+    }
+    const std::string text = w.str();
+    if (text.back() != '?') w << ";";
+    w << " rerun with --refine-intrinsics " << groups[0]
+      << (groups.size() > 1 ? "," + groups[1] : "");
+    warnings.push_back(w.str());
+  }
+  return warnings;
+}
+
+}  // namespace handeye::internal
