@@ -103,6 +103,10 @@ FileIntrinsics ReadOpenCv(const std::string& path) {
     fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY | format);
   } catch (const cv::Exception& e) {
     throw InputError(path, "", "not an OpenCV FileStorage file (YAML, XML or JSON): " + e.msg);
+  } catch (const std::logic_error& e) {
+    // OpenCV 4.6's YAML parser lets std::string throw length_error on a key
+    // with no name ("  : 3" under a mapping; found by fuzz/run).
+    throw InputError(path, "", std::string("not an OpenCV FileStorage file (YAML, XML or JSON): ") + e.what());
   }
   if (!fs.isOpened()) throw InputError(path, "", "not an OpenCV FileStorage file (YAML, XML or JSON)");
   // FileStorage's operator[] asserts (cv::Exception) on a root that is not a
