@@ -239,6 +239,17 @@ TEST_CASE("OpenCV FileStorage: a matrix header that lies is refused before OpenC
     RequireFileError((std::filesystem::path(__FILE__).parent_path() / "fuzz_findings" / name).string(),
                      IntrinsicsFileFormat::kOpenCv, "", "", "not an OpenCV FileStorage file (YAML, XML or JSON)");
   }
+  // OpenCV's XML parser read a null pointer when the text ended just after
+  // an attribute's '=', also when a NUL byte ended it there.
+  const auto finding_file = [](const char* name) {
+    return (std::filesystem::path(__FILE__).parent_path() / "fuzz_findings" / name).string();
+  };
+  RequireFileError(finding_file("intrinsics_opencv_xml_segv.xml"), IntrinsicsFileFormat::kOpenCv, "", "",
+                   "not a text file: a NUL byte at offset 14");
+  RequireFileError(finding_file("opencv_xml_nul_after_equals.xml"), IntrinsicsFileFormat::kOpenCv, "", "",
+                   "not a text file: a NUL byte at offset");
+  RequireFileError(finding_file("opencv_xml_ends_after_equals.xml"), IntrinsicsFileFormat::kOpenCv, "", "",
+                   "not an OpenCV FileStorage XML file: it does not end with a closing tag");
   // And one for the Kalibr reader: yaml-cpp's LoadAll never returned.
   RequireFileError((std::filesystem::path(__FILE__).parent_path() / "fuzz_findings/kalibr_yaml_no_progress.yaml").string(),
                    IntrinsicsFileFormat::kKalibr, "cam0", "", "not readable as YAML (the parser gets no further)");
