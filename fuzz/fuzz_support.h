@@ -11,25 +11,42 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
 #include <typeinfo>
 
 #include "handeye/core/error.h"
 
 namespace handeye::fuzz {
 
-/// A folder for this process's files (created once, under $TMPDIR or /tmp).
+/// A folder for this process's files, created once and removed at exit:
+/// under $TMPDIR if set, else in /dev/shm, else in /tmp. Memory, not disk:
+/// on a disk-backed /tmp the write-back of one small file per input took
+/// nine tenths of the time (perf: ext4 write-back and page clearing in the
+/// kernel; pose_csv ran 500 inputs/s from /tmp and 4,700 from /dev/shm).
 inline const std::string& WorkDir() {
   static const std::string dir = [] {
     const char* tmp = std::getenv("TMPDIR");
-    std::string pattern = std::string(tmp && *tmp ? tmp : "/tmp") + "/handeye-fuzz-XXXXXX";
+    std::string parent = tmp && *tmp ? tmp : "/tmp";
+    if (!(tmp && *tmp) && std::filesystem::is_directory("/dev/shm")) parent = "/dev/shm";
+    std::string pattern = parent + "/handeye-fuzz-XXXXXX";
     if (!mkdtemp(pattern.data())) {
       std::perror("mkdtemp");
       std::abort();
     }
     return pattern;
   }();
+  // libFuzzer ends a run with exit(), so the folder goes; after a crash it
+  // stays, with the input that caused it.
+  static const bool cleanup_registered = [] {
+    return std::atexit([] {
+      std::error_code ignored;
+      std::filesystem::remove_all(dir, ignored);
+    }) == 0;
+  }();
+  (void)cleanup_registered;
   return dir;
 }
 

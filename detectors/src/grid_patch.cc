@@ -116,7 +116,11 @@ bool HasGridPatch(const std::vector<SaddlePoint>& all_saddles, const GridPatchOp
     std::partial_sort(near.begin(), near.begin() + keep, near.end());
     near.resize(keep);
 
-    for (const auto& [du2, q] : near) {
+    for (const auto& neighbour : near) {
+      // Named, not a structured binding: a lambda below uses q, and C++17
+      // does not let lambdas capture bindings (clang refuses; g++ allows).
+      const double du2 = neighbour.first;
+      const int q = neighbour.second;
       // p + u: a neighbour along one grid line, so of opposite sign...
       if (!(-HessianCosine(p, saddles[q]) >= options.min_cosine)) continue;
       const cv::Point2d u = At(saddles[q]) - At(p);

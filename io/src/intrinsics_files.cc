@@ -85,6 +85,12 @@ std::optional<int> ReadOptionalSide(const cv::FileStorage& fs, const std::string
 
 FileIntrinsics ReadOpenCv(const std::string& path) {
   std::string text = internal::ReadTextFile(path, "an intrinsics file");
+  // OpenCV's parsers read the text as a C string (a NUL ends it early), and
+  // its XML parser dereferences a null pointer when the text ends just after
+  // an attribute's '=' (OpenCV 4.6; both found by fuzz/run). Neither reaches it.
+  const std::size_t nul = text.find('\0');
+  if (nul != std::string::npos)
+    throw InputError(path, "", "not a text file: a NUL byte at offset " + std::to_string(nul));
   const std::size_t first = text.find_first_not_of(" \t\r\n");
   const char lead = first == std::string::npos ? '\0' : text[first];
   // OpenCV tells its formats apart by the first characters and insists on
@@ -93,6 +99,8 @@ FileIntrinsics ReadOpenCv(const std::string& path) {
   int format = cv::FileStorage::FORMAT_YAML;
   if (lead == '<') {
     format = cv::FileStorage::FORMAT_XML;
+    if (text[text.find_last_not_of(" \t\r\n")] != '>')
+      throw InputError(path, "", "not an OpenCV FileStorage XML file: it does not end with a closing tag");
   } else if (lead == '{') {
     format = cv::FileStorage::FORMAT_JSON;
   } else if (text.compare(first == std::string::npos ? 0 : first, 5, "%YAML") != 0) {
@@ -103,6 +111,10 @@ FileIntrinsics ReadOpenCv(const std::string& path) {
     fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY | format);
   } catch (const cv::Exception& e) {
     throw InputError(path, "", "not an OpenCV FileStorage file (YAML, XML or JSON): " + e.msg);
+  } catch (const std::logic_error& e) {
+    // OpenCV 4.6's YAML parser lets std::string throw length_error on a key
+    // with no name ("  : 3" under a mapping; found by fuzz/run).
+    throw InputError(path, "", std::string("not an OpenCV FileStorage file (YAML, XML or JSON): ") + e.what());
   }
   if (!fs.isOpened()) throw InputError(path, "", "not an OpenCV FileStorage file (YAML, XML or JSON)");
   // FileStorage's operator[] asserts (cv::Exception) on a root that is not a

@@ -225,13 +225,32 @@ TEST_CASE("OpenCV FileStorage: a matrix header that lies is refused before OpenC
                      "expected an opencv-matrix (rows, cols, dt, data) of at most 64 x 64 single-channel values, "
                      "with rows x cols of them in data");
   }
-  // Another one: a root that is not a mapping made OpenCV assert.
+  // Another one: a root that is not a mapping made OpenCV assert. The saved
+  // input has NUL bytes, now refused before OpenCV parses it; list.yml keeps
+  // the mapping check itself tested.
   RequireFileError((std::filesystem::path(__FILE__).parent_path() / "fuzz_findings/opencv_root_not_a_map.yaml").string(),
-                   IntrinsicsFileFormat::kOpenCv, "", "",
-                   "expected an OpenCV FileStorage mapping with camera_matrix and distortion_coefficients");
+                   IntrinsicsFileFormat::kOpenCv, "", "", "not a text file: a NUL byte at offset 8");
   test::WriteText(dir + "/list.yml", "%YAML:1.0\n- 1\n- 2\n");
   RequireFileError(dir + "/list.yml", IntrinsicsFileFormat::kOpenCv, "", "",
                    "expected an OpenCV FileStorage mapping");
+  // OpenCV's YAML parser threw std::length_error on a key with no name: the
+  // input fuzz/run saved, and the three lines that are enough.
+  for (const char* name : {"intrinsics_opencv_length_error.yaml", "opencv_yaml_empty_key.yaml"}) {
+    INFO(name);
+    RequireFileError((std::filesystem::path(__FILE__).parent_path() / "fuzz_findings" / name).string(),
+                     IntrinsicsFileFormat::kOpenCv, "", "", "not an OpenCV FileStorage file (YAML, XML or JSON)");
+  }
+  // OpenCV's XML parser read a null pointer when the text ended just after
+  // an attribute's '=', also when a NUL byte ended it there.
+  const auto finding_file = [](const char* name) {
+    return (std::filesystem::path(__FILE__).parent_path() / "fuzz_findings" / name).string();
+  };
+  RequireFileError(finding_file("intrinsics_opencv_xml_segv.xml"), IntrinsicsFileFormat::kOpenCv, "", "",
+                   "not a text file: a NUL byte at offset 14");
+  RequireFileError(finding_file("opencv_xml_nul_after_equals.xml"), IntrinsicsFileFormat::kOpenCv, "", "",
+                   "not a text file: a NUL byte at offset");
+  RequireFileError(finding_file("opencv_xml_ends_after_equals.xml"), IntrinsicsFileFormat::kOpenCv, "", "",
+                   "not an OpenCV FileStorage XML file: it does not end with a closing tag");
   // And one for the Kalibr reader: yaml-cpp's LoadAll never returned.
   RequireFileError((std::filesystem::path(__FILE__).parent_path() / "fuzz_findings/kalibr_yaml_no_progress.yaml").string(),
                    IntrinsicsFileFormat::kKalibr, "cam0", "", "not readable as YAML (the parser gets no further)");
