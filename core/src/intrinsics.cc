@@ -312,8 +312,8 @@ std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
     }
     const std::string text = w.str();
     if (text.back() != '?') w << ";";
-    w << " rerun with --refine-intrinsics " << groups[0]
-      << (groups.size() > 1 ? "," + groups[1] : "");
+    w << " rerun with --refine-intrinsics " << groups[0] << (groups.size() > 1 ? "," + groups[1] : "")
+      << " (the poses' σ assumes the given intrinsics)";
     warnings.push_back(w.str());
   }
   return warnings;

@@ -143,7 +143,8 @@ void UncertaintyTable(const ReportModel& model, std::ostringstream& out) {
         << Num(cam.sigma->position_mm, 2) << "</td><td>" << Num(cam.sigma->rotation_deg, 4) << "</td><td>"
         << Num(PointSigmaMm(cam, 1.0), 2) << "</td><td>" << Num(PointSigmaMm(cam, 3.0), 2) << "</td></tr>\n";
   }
-  out << "</table>\n<p class=\"small\">From the covariance of the solution, scaled by the residuals seen "
+  out << "</table>\n";
+  out << "<p class=\"small\">From the covariance of the solution, scaled by the residuals seen "
          "(robot pose error and detection noise included). ± mm is the RMS error over the three axes "
          "together; a point in front of a camera is where the camera puts something it sees at that "
          "distance.";
@@ -152,6 +153,24 @@ void UncertaintyTable(const ReportModel& model, std::ostringstream& out) {
         << ": ± " << Num(model.result->target_sigma->position_mm, 2) << " mm, ± "
         << Num(model.result->target_sigma->rotation_deg, 4) << "°.";
   out << "</p>\n";
+  bool validated = false;
+  for (const CameraModel& cam : model.cameras) validated = validated || cam.result->cross_validation;
+  if (validated) {
+    out << "<h3>Held out (calibrate --cross-validate)</h3>\n<table>\n<tr><th class=\"name\">camera</th>"
+        << "<th>poses left out</th><th>held-out RMS<br>(px)</th><th>in-sample RMS<br>(px)</th>"
+        << "<th>spread over the folds<br>(mm / °)</th></tr>\n";
+    for (size_t k = 0; k < model.cameras.size(); ++k) {
+      const CameraResult& cam = *model.cameras[k].result;
+      if (!cam.cross_validation) continue;
+      const auto& cv = *cam.cross_validation;
+      out << "<tr><td class=\"name\">" << Swatch(static_cast<int>(k)) << Escape(cam.name) << "</td><td>" << cv.folds
+          << "</td><td>" << Num(cv.held_out_rms_px, 3) << "</td><td>" << Num(cam.rms_px, 3) << "</td><td>"
+          << Num(cv.position_spread_mm, 3) << " / " << Num(cv.rotation_spread_deg, 4) << "</td></tr>\n";
+    }
+    out << "</table>\n<p class=\"small\">Each robot pose left out in turn, the solve run again without "
+           "it and its views predicted. A held-out RMS far above the in-sample one means over-fitting or "
+           "bad poses; the spread is how far one pose moves each camera.</p>\n";
+  }
 }
 
 // Refined (or estimated) intrinsics beside the given ones.

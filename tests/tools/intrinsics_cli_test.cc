@@ -46,7 +46,7 @@ TEST_CASE("calibrate --refine-intrinsics on a rendered cell with intrinsics 1 % 
   const double off_mm = MeanErrorMm(dir + "/off.json", truth);
 
   REQUIRE(test::RunHandeye("calibrate " + dir + "/factory.json -o " + dir + "/refined.json "
-                           "--refine-intrinsics focal,principal_point --report " + dir + "/report",
+                           "--refine-intrinsics focal,principal_point --cross-validate --report " + dir + "/report",
                            &out) == 0);
   CHECK_THAT(out, !Catch::Contains("the images suggest"));
   const double refined_mm = MeanErrorMm(dir + "/refined.json", truth);
@@ -55,6 +55,8 @@ TEST_CASE("calibrate --refine-intrinsics on a rendered cell with intrinsics 1 % 
   CHECK(refined_mm < 0.2 * off_mm);
   const std::string html = test::ReadText(dir + "/report/index.html");
   CHECK_THAT(html, Catch::Contains("<h3>Intrinsics</h3>") && Catch::Contains("refined ± 1σ"));
+  CHECK_THAT(html, Catch::Contains("How well each camera is known") && Catch::Contains("Held out"));
+  CHECK_THAT(out, Catch::Contains("held out: RMS"));
 
   // The refined intrinsics are in the dataset's form: fed back, the check is quiet.
   const nlohmann::json refined = nlohmann::json::parse(test::ReadText(dir + "/refined.json"));
