@@ -285,7 +285,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     if (covariance.Z_covariance)
       result.target_sigma = internal::UncertaintyOf(est.shared_Z, *covariance.Z_covariance, false);
     for (size_t k = 0; k < num_cameras; ++k) {
-      if (init.free_intrinsics[k].empty()) continue;
+      if (init.free_intrinsics[k].empty() || !est.X[k]) continue;  // no views: nothing refined
       for (int p : internal::UndeterminedIntrinsics(start_cameras[k], covariance.intrinsics_sigma[k],
                                                     init.free_intrinsics[k])) {
         if (estimated[k] && p < 4)
