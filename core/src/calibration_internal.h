@@ -215,12 +215,14 @@ Refinement RefinePerCamera(const Problem& problem, const std::vector<std::option
 /// every further non-zero coefficient, never the tilt.
 std::vector<int> FreeIntrinsics(const Camera& camera, unsigned groups);
 
-/// How much an error shared by the points of a view (a robot pose error not
-/// modelled, a view's blur) inflates the variance of parameters estimated
-/// from them, as the residuals of the view blocks show it: 1 for independent
-/// points, up to the points per view when all move together. Covariances from
-/// the per-point residuals alone are multiplied by it.
-double ViewDesignFactor(const ceres::Problem& problem, const std::vector<ceres::ResidualBlockId>& views);
+/// The factor that turns a covariance from Ceres (unit residuals) into one
+/// of the residuals actually seen: the a posteriori variance factor (2·cost
+/// over residuals minus free parameters) times the view design factor, how
+/// much an error shared by the points of a view (a robot pose error not
+/// modelled, a view's blur) inflates the variance: 1 for independent points,
+/// up to the points per view when all move together (from the view blocks'
+/// residuals).
+double VarianceFactor(ceres::Problem* problem, const std::vector<ceres::ResidualBlockId>& views);
 
 /// 1σ of the prior of each intrinsic parameter about its given value: the
 /// value that moves an image corner by 20 px.

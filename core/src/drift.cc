@@ -112,9 +112,7 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
     if (covariance.Compute(pair, &ceres_problem)) {
       Eigen::Matrix<double, 6, 6, Eigen::RowMajor> C;
       covariance.GetCovarianceBlockInTangentSpace(X.data(), X.data(), C.data());
-      const int redundancy = ceres_problem.NumResiduals() - 6;
-      const double variance_factor = (redundancy > 0 ? 2.0 * summary.final_cost / redundancy : 1.0) *
-                                     internal::ViewDesignFactor(ceres_problem, blocks);
+      const double variance_factor = internal::VarianceFactor(&ceres_problem, blocks);
       const PoseUncertainty u = internal::UncertaintyOf(X_now, Eigen::Matrix<double, 6, 6>(C) * variance_factor, true);
       // The difference of two estimates: the new one and the calibration's own.
       const double calibrated_mm = cam.sigma ? cam.sigma->position_mm : 0.0;

@@ -102,6 +102,8 @@ class IntrinsicsPriorCost : public ceres::CostFunction {
 
 }  // namespace
 
+namespace {
+
 double ViewDesignFactor(const ceres::Problem& problem, const std::vector<ceres::ResidualBlockId>& views) {
   // Per axis: s² over all points, and n·m² per view (m the view's mean
   // residual), which is s² on average when the points are independent and
@@ -129,6 +131,20 @@ double ViewDesignFactor(const ceres::Problem& problem, const std::vector<ceres::
   }
   if (used < 2 || sum_sq <= 0) return 1.0;
   return std::max(1.0, (sum_view / used) / (sum_sq / points));
+}
+
+}  // namespace
+
+double VarianceFactor(ceres::Problem* problem, const std::vector<ceres::ResidualBlockId>& views) {
+  double cost = 0;
+  problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
+  std::vector<double*> blocks;
+  problem->GetParameterBlocks(&blocks);
+  int free = 0;
+  for (double* block : blocks)
+    if (!problem->IsParameterBlockConstant(block)) free += problem->ParameterBlockTangentSize(block);
+  const int redundancy = problem->NumResiduals() - free;
+  return (redundancy > 0 ? 2.0 * cost / redundancy : 1.0) * ViewDesignFactor(*problem, views);
 }
 
 Intrinsics IntrinsicsPriorSigma(const Camera& camera) {
@@ -275,13 +291,7 @@ std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
     if (!covariance.Compute(block, &ceres_problem)) continue;
     Eigen::Matrix<double, kN, kN, Eigen::RowMajor> C;
     covariance.GetCovarianceBlock(K.data(), K.data(), C.data());
-    int dof = 0;
-    std::vector<double*> blocks;
-    ceres_problem.GetParameterBlocks(&blocks);
-    for (double* block : blocks) dof += ceres_problem.ParameterBlockTangentSize(block);
-    const int redundancy = ceres_problem.NumResiduals() - dof;
-    const double variance_factor = (redundancy > 0 ? 2.0 * summary.final_cost / redundancy : 1.0) *
-                                   ViewDesignFactor(ceres_problem, view_blocks);
+    const double variance_factor = VarianceFactor(&ceres_problem, view_blocks);
     double sigma[4], delta[4];
     for (int p = 0; p < 4; ++p) {
       sigma[p] = std::sqrt(std::max(0.0, C(p, p)) * variance_factor);

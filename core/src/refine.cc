@@ -142,15 +142,7 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& X, 
   pairs.emplace_back(Z, Z);
   for (double* block : K)
     if (block) pairs.emplace_back(block, block);
-  double cost = 0;
-  problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
-  std::vector<double*> blocks;
-  problem->GetParameterBlocks(&blocks);
-  int dof = 0;
-  for (double* block : blocks) dof += problem->ParameterBlockTangentSize(block);
-  const int redundancy = problem->NumResiduals() - dof;
-  const double variance_factor =
-      (redundancy > 0 ? 2.0 * cost / redundancy : 1.0) * ViewDesignFactor(*problem, views);
+  const double variance_factor = VarianceFactor(problem, views);
   ceres::Covariance::Options covariance_options;
   covariance_options.algorithm_type = ceres::SPARSE_QR;
   covariance_options.num_threads = threads;

@@ -8,6 +8,7 @@
 
 #include "handeye/core/calibration.h"
 #include "handeye/core/checkerboard.h"
+#include "handeye/core/evaluation.h"
 #include "handeye/core/synthetic.h"
 #include "handeye/core/transform.h"
 
@@ -33,15 +34,9 @@ SyntheticScene Scene(Setup setup, int poses, std::uint64_t seed, double robot_mm
   return scene;
 }
 
+// The paper's e_t^GT, mean over the calibrated cameras (mm).
 double MeanPositionErrorMm(const CalibrationResult& result, const GroundTruth& truth) {
-  double sum = 0;
-  int n = 0;
-  for (const CameraResult& camera : result.cameras) {
-    if (!camera.calibrated) continue;
-    sum += (camera.T_cam.translation() - truth.T_cam.at(camera.name).translation()).norm();
-    ++n;
-  }
-  return 1000.0 * sum / n;
+  return EvaluateAgainstTruth(result, truth).mean_translation_mm;
 }
 
 /// The dataset without the observations of the given poses.
