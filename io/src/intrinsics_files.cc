@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "handeye/io/intrinsics_files.h"
 
+#include <cctype>
 #include <cmath>
 #include <stdexcept>
 #include <opencv2/core.hpp>
@@ -83,6 +84,23 @@ std::optional<int> ReadOptionalSide(const cv::FileStorage& fs, const std::string
   return static_cast<int>(node);
 }
 
+// OpenCV 4.6 loops for ever on some base64 payloads (YAML `!!binary`, XML
+// type_id="binary", JSON "$base64$"; found by fuzz/run: 32 'A's are enough).
+// Intrinsics are a few numbers that every tool writes as text, so a file
+// that asks for base64 is refused before OpenCV sees it.
+bool AsksForBase64(const std::string& text, int format) {
+  if (format == cv::FileStorage::FORMAT_JSON) return text.find("$base64$") != std::string::npos;
+  const auto word_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  for (std::size_t at = text.find("binary"); at != std::string::npos; at = text.find("binary", at + 1)) {
+    const char before = at == 0 ? '\0' : text[at - 1];
+    const char after = at + 6 < text.size() ? text[at + 6] : '\0';
+    const bool yaml_tag = (before == '!' || before == ':') && !word_char(after);     // !!binary, !<...:binary>
+    const bool xml_value = (before == '"' || before == '\'') && after == before;      // type_id="binary"
+    if (format == cv::FileStorage::FORMAT_XML ? xml_value : yaml_tag) return true;
+  }
+  return false;
+}
+
 FileIntrinsics ReadOpenCv(const std::string& path) {
   std::string text = internal::ReadTextFile(path, "an intrinsics file");
   // OpenCV's parsers read the text as a C string (a NUL ends it early), and
@@ -106,6 +124,8 @@ FileIntrinsics ReadOpenCv(const std::string& path) {
   } else if (text.compare(first == std::string::npos ? 0 : first, 5, "%YAML") != 0) {
     text = "%YAML:1.0\n" + text;
   }
+  if (AsksForBase64(text, format))
+    throw InputError(path, "", "base64 (binary) values are not read: write the matrices as text");
   cv::FileStorage fs;
   try {
     fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY | format);

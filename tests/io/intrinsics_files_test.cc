@@ -251,6 +251,24 @@ TEST_CASE("OpenCV FileStorage: a matrix header that lies is refused before OpenC
                    "not a text file: a NUL byte at offset");
   RequireFileError(finding_file("opencv_xml_ends_after_equals.xml"), IntrinsicsFileFormat::kOpenCv, "", "",
                    "not an OpenCV FileStorage XML file: it does not end with a closing tag");
+  // OpenCV looped for ever on a base64 value (the saved input, then the
+  // three formats' spellings); names that merely contain "binary" still read.
+  RequireFileError(finding_file("opencv_yaml_binary_loops.yaml"), IntrinsicsFileFormat::kOpenCv, "", "",
+                   "base64 (binary) values are not read: write the matrices as text");
+  const std::string zeros(36, 'A');
+  const std::string xml_head = "<?xml version=\"1.0\"?>\n<opencv_storage>\n";
+  for (const std::string& text :
+       {"a: !!binary " + zeros + "\n", "a: !<tag:yaml.org,2002:binary> " + zeros + "\n",
+        "{\"a\": \"$base64$" + zeros + "\"}", xml_head + "<a type_id=\"binary\">" + zeros + "</a>\n</opencv_storage>\n",
+        xml_head + "<a type_id = 'binary'>" + zeros + "</a>\n</opencv_storage>\n"}) {
+    INFO(text);
+    test::WriteText(dir + "/base64.txt", text);
+    RequireFileError(dir + "/base64.txt", IntrinsicsFileFormat::kOpenCv, "", "", "base64 (binary) values are not read");
+  }
+  test::WriteText(dir + "/binary_name.yml", "%YAML:1.0\ncamera_name: binary_cam\nnote: \"binary\"\n" + K +
+                                               "distortion_coefficients: !!opencv-matrix\n  rows: 1\n  cols: 4\n"
+                                               "  dt: d\n  data: [0.1, -0.01, 0, 0]\n");
+  ReadIntrinsicsFile(dir + "/binary_name.yml", IntrinsicsFileFormat::kOpenCv, "");
   // And one for the Kalibr reader: yaml-cpp's LoadAll never returned.
   RequireFileError((std::filesystem::path(__FILE__).parent_path() / "fuzz_findings/kalibr_yaml_no_progress.yaml").string(),
                    IntrinsicsFileFormat::kKalibr, "cam0", "", "not readable as YAML (the parser gets no further)");
