@@ -27,7 +27,14 @@ void Write(const std::string& path, const std::string& text) {
   handeye::fuzz::WriteFile(path, reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
 }
 
-// Lays the valid folder out again (the previous input replaced one file).
+std::string ValidText(const std::string& file) {
+  if (file == "CalibrationInfo.yaml") return kInfo;
+  if (file.find("intrinsic_pars_file") != std::string::npos) return kIntrinsics;
+  return kPose;
+}
+
+// Lays the valid folder out once; later calls put back only the file the
+// previous input replaced (writing all eleven each time was most of a run).
 std::string ValidFolder() {
   const std::string root = handeye::fuzz::WorkDir() + "/metric";
   static const bool made = [&] {
@@ -37,15 +44,15 @@ std::string ValidFolder() {
       for (const char* id : {"0001", "0002"}) Write(root + "/" + camera + "/image/" + id + ".png", "");
     }
     std::filesystem::create_directories(root + "/GT");
+    Write(root + "/CalibrationInfo.yaml", kInfo);
+    for (const char* camera : {"camera1", "camera2"}) {
+      Write(root + "/" + camera + "/intrinsic_pars_file.yaml", kIntrinsics);
+      for (const char* id : {"0001", "0002"}) Write(root + "/" + camera + "/pose/" + id + ".csv", kPose);
+    }
+    for (const char* gt : {"gt_cam1.csv", "gt_cam2.csv"}) Write(root + "/GT/" + gt, kPose);
     return true;
   }();
   (void)made;
-  Write(root + "/CalibrationInfo.yaml", kInfo);
-  for (const char* camera : {"camera1", "camera2"}) {
-    Write(root + "/" + camera + "/intrinsic_pars_file.yaml", kIntrinsics);
-    for (const char* id : {"0001", "0002"}) Write(root + "/" + camera + "/pose/" + id + ".csv", kPose);
-  }
-  for (const char* gt : {"gt_cam1.csv", "gt_cam2.csv"}) Write(root + "/GT/" + gt, kPose);
   return root;
 }
 
@@ -54,8 +61,9 @@ std::string ValidFolder() {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
   const std::string root = ValidFolder();
-  const char* file = kFiles[data[0] % (sizeof kFiles / sizeof kFiles[0])];
+  const std::string file = kFiles[data[0] % (sizeof kFiles / sizeof kFiles[0])];
   handeye::fuzz::WriteFile(root + "/" + file, data + 1, size - 1);
   handeye::fuzz::ExpectInputErrorsOnly([&] { handeye::ImportMetricFolder(root); });
+  Write(root + "/" + file, ValidText(file));
   return 0;
 }
