@@ -3,8 +3,8 @@
 // how close is each method to the truth, and how much does its answer move
 // when a quarter of the poses is left out? Rendered and detected images.
 //
-//   bench_repeatability --cells small,medium,large --poses 8,16,30 \
-//       --robot 0.5/0.05,1/0.1 --seeds 5 --folds 8 --methods joint,park
+//   bench_repeatability --cells small,medium,large --poses 8,16,30
+//       --robot 0.5/0.05,1/0.1 --seeds 5 --folds 8 --methods joint,park   (one line)
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>

@@ -2,16 +2,23 @@
 // Is the σ in the result honest? Over simulated cells, detection noise and
 // robot pose error, the fraction of cameras whose true position (rotation)
 // error lies within 2σ of the estimate. Honest: 85–98 %; lower is
-// overconfident, higher uselessly wide. Projected observations (no images).
+// overconfident, higher uselessly wide. Projected observations (true pixels
+// plus Gaussian noise of --noise px), or --source images: every camera
+// rendered at every pose (blur, sensor noise of --noise grey levels, clutter,
+// targets edge-on or from behind) and detected.
 //
-//   bench_uncertainty --cells small,medium,large --robot 0/0,0.1/0.01,0.3/0.03 \
-//       --noise 0.1,0.3 --seeds 6 --poses 20
+//   bench_uncertainty --cells small,medium,large --robot 0/0,0.1/0.01,0.3/0.03
+//       --noise 0.1,0.3 --seeds 6 --poses 20   (one line)
+//   bench_uncertainty --source images --noise 2,6 --image-size 1280x720 ...
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
 #include "handeye/core/calibration.h"
+#include "handeye/core/checkerboard.h"
 #include "handeye/core/synthetic.h"
 #include "handeye/core/transform.h"
+#include "handeye/io/render.h"
+#include "handeye/io/simulation.h"
 #include "support/bench_support.h"
 
 using namespace handeye;
@@ -20,15 +27,22 @@ using namespace handeye::bench;
 int main(int argc, char** argv) {
   CLI::App app{"handeye: coverage of the result's 1σ against the truth"};
   std::string cells = "small,medium,large", robot = "0/0,0.1/0.01,0.3/0.03", noise = "0.1,0.3";
-  int seeds = 6, poses = 20;
+  std::string source = "projected", image_size;
+  int seeds = 6, poses = 20, threads = 0;
   app.add_option("--cells", cells, "cells");
   app.add_option("--robot", robot, "robot pose error σ, MM/DEG per axis, comma-separated");
-  app.add_option("--noise", noise, "detection noise σ per image axis (px), comma-separated");
+  app.add_option("--source", source, "projected (true pixels + noise) or images (rendered and detected)")
+      ->check(CLI::IsMember({"projected", "images"}));
+  app.add_option("--noise", noise,
+                 "projected: detection noise σ per image axis (px); images: sensor noise σ (grey levels); "
+                 "comma-separated");
+  app.add_option("--image-size", image_size, "images: WIDTHxHEIGHT (default: the cell's 1920x1080)");
+  app.add_option("--threads", threads, "images: render/detect threads (0 = all cores)");
   app.add_option("--seeds", seeds, "scenes per combination");
   app.add_option("--poses", poses, "robot poses per scene");
   CLI11_PARSE(app, argc, argv);
 
-  Table table({"cell", "robot σ", "noise px", "cameras", "e_t ≤ 2σ", "e_θ ≤ 2σ", "median e_t/σ", "mean σ mm",
+  Table table({"cell", "robot σ", source == "images" ? "noise grey" : "noise px", "cameras", "e_t ≤ 2σ", "e_θ ≤ 2σ", "median e_t/σ", "mean σ mm",
                "mean e_t mm"});
   int all_cameras = 0, all_t = 0, all_r = 0, scenes = 0;
   for (const std::string& cell : SplitList(cells))
@@ -36,14 +50,37 @@ int main(int argc, char** argv) {
       for (const std::string& n : SplitList(noise)) {
         const auto slash = r.find('/');
         const double robot_mm = std::stod(r.substr(0, slash)), robot_deg = std::stod(r.substr(slash + 1));
-        const double noise_px = std::stod(n);
+        const double noise = std::stod(n);
         SceneOptions options;
         options.cell = cell;
         options.num_cameras = 4;
         options.num_poses = poses;
         options.pose_noise_mm = robot_mm;
         options.pose_noise_deg = robot_deg;
-        const SigmaCoverage c = MeasureSigmaCoverage(options, noise_px, seeds, 1001);
+        if (!image_size.empty() && std::sscanf(image_size.c_str(), "%dx%d", &options.width, &options.height) != 2) {
+          std::fprintf(stderr, "--image-size: expected WIDTHxHEIGHT\n");
+          return 2;
+        }
+        SigmaCoverage c;
+        if (source == "projected") {
+          c = MeasureSigmaCoverage(options, noise, seeds, 1001);
+        } else {
+          for (int i = 0; i < seeds; ++i) {
+            options.seed = 1001 + i;
+            SyntheticScene scene = MakeScene(options, std::make_shared<const CheckerboardTarget>(7, 4, 0.04));
+            RenderOptions render;
+            render.seed = options.seed * 1000003u;
+            render.noise_sigma = noise;
+            DetectSimulated(&scene, render, threads);
+            try {
+              AddToCoverage(Calibrate(scene.dataset, CalibrationOptions{}), scene.truth, &c);
+            } catch (const std::exception& e) {
+              c.failures.push_back(cell + " seed " + std::to_string(options.seed) + ": " + e.what());
+            }
+            std::fprintf(stderr, "\r%s, robot %s, noise %s: seed %d/%d   ", cell.c_str(), r.c_str(), n.c_str(), i + 1,
+                         seeds);
+          }
+        }
         for (const auto& failure : c.failures) std::fprintf(stderr, "%s\n", failure.c_str());
         scenes += c.scenes;
         const int cameras = c.cameras, within_t = c.position_within_2sigma, within_r = c.rotation_within_2sigma;

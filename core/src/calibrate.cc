@@ -125,6 +125,19 @@ void FillResult(const Problem& problem, const Estimate& est, const CalibrationOp
   }
 }
 
+/// For each camera, the groups the intrinsics check looks at: focal length
+/// and principal point, less those the joint solve refines (parameter
+/// indices in `free_intrinsics`: 0 fx, 2 cx).
+std::vector<unsigned> UnrefinedIntrinsics(const std::vector<std::vector<int>>& free_intrinsics, size_t num_cameras) {
+  std::vector<unsigned> check(num_cameras, kFocal | kPrincipalPoint);
+  for (size_t k = 0; k < free_intrinsics.size() && k < num_cameras; ++k)
+    for (int p : free_intrinsics[k]) {
+      if (p == 0) check[k] &= ~unsigned(kFocal);
+      if (p == 2) check[k] &= ~unsigned(kPrincipalPoint);
+    }
+  return check;
+}
+
 }  // namespace
 
 CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& options) {
@@ -174,6 +187,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   std::vector<std::vector<int>> undetermined(num_cameras);
   std::map<size_t, IntrinsicsResult> refined_intrinsics;
   std::optional<internal::RobotPrior> robot_model;  // the joint solve's, when it modelled the robot's error
+  std::vector<std::vector<int>> free_intrinsics;      // the joint solve's, by camera
   std::map<size_t, PoseUncertainty> camera_sigma;
   std::vector<CameraResult::CrossValidation> camera_validation;
   if (options.method == Method::kJoint) {
@@ -207,6 +221,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
       if (groups & kDistortion && working.cameras[k].num_distortion == 0) working.cameras[k].num_distortion = 5;
       init.free_intrinsics[k] = internal::FreeIntrinsics(working.cameras[k], groups);
     }
+    free_intrinsics = init.free_intrinsics;
     init.given_cameras = start_cameras;
     init.pixel_sigma_px = internal::DetectionSigmaPx(problem);
     // One joint solve (with the intrinsics under their prior), then PnP again
@@ -251,8 +266,18 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
               warm_start(refine(round, std::nullopt));
               solved_once = true;
             }
-            robot = internal::EstimateRobotPrior(problem, init.X,
-                                                 internal::TargetPoses(dataset.cameras.size(), init.Z));
+            const internal::TargetPoses Z_now(dataset.cameras.size(), init.Z);
+            robot = internal::EstimateRobotPrior(problem, init.X, Z_now);
+            // Intrinsics that do not fit raise the chain's residuals too, and
+            // pose blocks would absorb that misfit (METRIC as published: its
+            // principal points are 1–3 px off). Where the views say the given
+            // focal length or principal point is off even with the robot's
+            // error modelled, only a clear excess (2× PnP's) counts as the robot's.
+            if (robot && robot->chain_to_pnp < 2.0 &&
+                !internal::IntrinsicsWarnings(problem, init.X, Z_now, scale,
+                                              UnrefinedIntrinsics(init.free_intrinsics, num_cameras), robot)
+                     .empty())
+              robot.reset();
           }
           internal::Refinement r = refine(round, robot);
           warm_start(r);  // of the next round
@@ -404,15 +429,9 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     if (camera_validation[k].folds > 0) result.cameras[k].cross_validation = camera_validation[k];
   if (options.check_intrinsics) {
     // Focal length and principal point not refined: do the views agree with them?
-    std::vector<unsigned> check(num_cameras, kFocal | kPrincipalPoint);
-    for (const auto& [k, intrinsics] : refined_intrinsics) {
-      const auto& names = intrinsics.refined;
-      if (std::find(names.begin(), names.end(), "fx") != names.end()) check[k] &= ~unsigned(kFocal);
-      if (std::find(names.begin(), names.end(), "cx") != names.end()) check[k] &= ~unsigned(kPrincipalPoint);
-    }
     const auto intrinsics_warnings =
-        internal::IntrinsicsWarnings(problem, est.X, Z, std::max(1.0, result.solver.cauchy_scale_px), check,
-                                     robot_model);
+        internal::IntrinsicsWarnings(problem, est.X, Z, std::max(1.0, result.solver.cauchy_scale_px),
+                                     UnrefinedIntrinsics(free_intrinsics, num_cameras), robot_model);
     result.warnings.insert(result.warnings.end(), intrinsics_warnings.begin(), intrinsics_warnings.end());
   }
   result.solver.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -186,6 +186,7 @@ struct RobotPrior {
   double sigma_m = 0;         ///< flange translation σ per axis, metres
   double sigma_rad = 0;       ///< rotation σ per axis (about the flange, base frame)
   double pixel_sigma_px = 0;  ///< detection noise σ per image axis, the pixel residuals' weight
+  double chain_to_pnp = 0;    ///< median view RMS through the exact-robot chain over PnP's (estimated priors)
 };
 
 /// Detection noise σ per image axis (pixels): the median over used views of
@@ -193,10 +194,10 @@ struct RobotPrior {
 double DetectionSigmaPx(const Problem& problem);
 
 /// The robot's pose error as the views show it through (X, Z): nullopt when
-/// the residuals through the chain are not clearly above the detection noise
-/// (the robot is then as exact as the images can tell); else σ of the flange's
+/// the residuals through the chain are not clearly above PnP's (over 1.2×;
+/// the robot is then as exact as the images can tell); else σ of the flange's
 /// displacement across the viewing rays and of its rotation, from the medians
-/// of where PnP and the chain put the target.
+/// of where PnP and the chain put the target, less PnP's own noise there.
 std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
                                              const std::vector<std::optional<Eigen::Isometry3d>>& X,
                                              const TargetPoses& Z);

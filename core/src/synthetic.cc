@@ -644,20 +644,24 @@ SigmaCoverage MeasureSigmaCoverage(SceneOptions options, double noise_px, int se
       out.failures.push_back(options.cell + " seed " + std::to_string(options.seed) + ": " + e.what());
       continue;
     }
-    ++out.scenes;
-    for (const CameraResult& camera : result.cameras) {
-      if (!camera.calibrated || !camera.sigma) continue;
-      const Eigen::Isometry3d& truth = scene.truth.T_cam.at(camera.name);
-      const double e_t = 1000.0 * (camera.T_cam.translation() - truth.translation()).norm();
-      const double e_r = RotationDistance(camera.T_cam.rotation(), truth.rotation()) * 180.0 / M_PI;
-      ++out.cameras;
-      out.position_within_2sigma += e_t <= 2.0 * camera.sigma->position_mm ? 1 : 0;
-      out.rotation_within_2sigma += e_r <= 2.0 * camera.sigma->rotation_deg ? 1 : 0;
-      out.position_error_mm.push_back(e_t);
-      out.position_sigma_mm.push_back(camera.sigma->position_mm);
-    }
+    AddToCoverage(result, scene.truth, &out);
   }
   return out;
+}
+
+void AddToCoverage(const CalibrationResult& result, const GroundTruth& truth, SigmaCoverage* out) {
+  ++out->scenes;
+  for (const CameraResult& camera : result.cameras) {
+    if (!camera.calibrated || !camera.sigma) continue;
+    const Eigen::Isometry3d& T = truth.T_cam.at(camera.name);
+    const double e_t = 1000.0 * (camera.T_cam.translation() - T.translation()).norm();
+    const double e_r = RotationDistance(camera.T_cam.rotation(), T.rotation()) * 180.0 / M_PI;
+    ++out->cameras;
+    out->position_within_2sigma += e_t <= 2.0 * camera.sigma->position_mm ? 1 : 0;
+    out->rotation_within_2sigma += e_r <= 2.0 * camera.sigma->rotation_deg ? 1 : 0;
+    out->position_error_mm.push_back(e_t);
+    out->position_sigma_mm.push_back(camera.sigma->position_mm);
+  }
 }
 
 }  // namespace handeye

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "handeye/core/calibration.h"
 #include "handeye/core/dataset.h"
 
 namespace handeye {
@@ -87,5 +88,7 @@ struct SigmaCoverage {
   std::vector<std::string> failures;  ///< scenes that did not solve, and why
 };
 SigmaCoverage MeasureSigmaCoverage(SceneOptions scene, double noise_px, int seeds, std::uint64_t first_seed);
+/// Adds one solved scene's cameras to `coverage` (its `scenes` too).
+void AddToCoverage(const CalibrationResult& result, const GroundTruth& truth, SigmaCoverage* coverage);
 
 }  // namespace handeye
