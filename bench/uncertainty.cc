@@ -10,8 +10,8 @@
 #include <cstdio>
 
 #include "handeye/core/calibration.h"
-#include "handeye/core/synthetic.h"
 #include "handeye/core/transform.h"
+#include "handeye/sim/synthetic.h"
 #include "support/bench_support.h"
 
 using namespace handeye;

@@ -17,8 +17,8 @@
 #include "handeye/core/error.h"
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/detection.h"
-#include "handeye/io/report.h"
 #include "handeye/io/result_json.h"
+#include "handeye/report/report.h"
 
 namespace handeye::tools {
 namespace {

@@ -2,7 +2,7 @@
 // `handeye report DATASET RESULT -o DIR`: per-view overlays, plots and an
 // HTML page for a person to accept or reject a calibration (SPEC §7), drawn
 // off-screen.
-#include "handeye/io/report.h"
+#include "handeye/report/report.h"
 
 #include <cstdio>
 #include <iostream>

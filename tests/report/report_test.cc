@@ -2,7 +2,7 @@
 // The calibration report: files of a rendered 4-camera cell, marks at the
 // right pixels in the overlays (read back from the PNGs), warnings, and
 // results that do not belong to the dataset.
-#include "handeye/io/report.h"
+#include "handeye/report/report.h"
 
 #include <catch2/catch.hpp>
 #include <filesystem>
@@ -12,8 +12,8 @@
 
 #include "handeye/core/checkerboard.h"
 #include "handeye/core/error.h"
-#include "handeye/core/synthetic.h"
-#include "handeye/io/simulation.h"
+#include "handeye/sim/simulation.h"
+#include "handeye/sim/synthetic.h"
 #include "io/io_fixtures.h"
 #include "support/test_support.h"
 

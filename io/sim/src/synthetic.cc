@@ -6,7 +6,7 @@
 // between two neighbours, so that views are shared. eye_in_hand puts a small
 // rig of cameras on the flange and a fixed target in the cell.
 
-#include "handeye/core/synthetic.h"
+#include "handeye/sim/synthetic.h"
 
 #include <algorithm>
 #include <array>

@@ -2,7 +2,7 @@
 // WriteReport(): builds the model, draws the overlays on a pool of workers
 // (one image in memory per worker) while the main thread draws the plots,
 // then writes index.html last.
-#include "handeye/io/report.h"
+#include "handeye/report/report.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
-// Internal pieces of the report writer (io/report.h), shared by its files:
+// Internal pieces of the report writer (report.h), shared by its files:
 // the model (what every view and camera looks like under the result), the
 // overlays, the plots and the HTML.
 
@@ -12,7 +12,7 @@
 
 #include "handeye/core/calibration.h"
 #include "handeye/core/dataset.h"
-#include "handeye/io/report.h"
+#include "handeye/report/report.h"
 
 namespace handeye::report {
 
