@@ -100,7 +100,7 @@ void RegisterReport(CLI::App& app) {
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(ThreadCount());
   cmd->add_flag("--no-closed-form", args->no_closed_form,
-                "skip the comparison with a per-camera closed-form solution");
+                "leave out the result's comparison with a per-camera closed-form solution (its table column)");
   cmd->add_flag("--reorthonormalise", args->reorthonormalise,
                 "replace slightly non-orthonormal robot rotations by the nearest rotation");
   AddQuietFlag(cmd, &args->quiet);

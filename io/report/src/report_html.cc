@@ -239,51 +239,55 @@ void CameraTables(const ReportModel& model, std::ostringstream& out) {
       << " coordinates. Roll, pitch, yaw are fixed-axis x, y, z angles: R = "
          "Rz(yaw)·Ry(pitch)·Rx(roll).</p>\n";
 
+  // The closed form the result was compared with (Calibrate() names it per camera).
+  std::string closed_form;
+  for (const CameraModel& cam : model.cameras)
+    if (cam.result->closed_form && model.show_closed_form) closed_form = cam.result->closed_form->method;
   out << "<h3>Quality per camera</h3>\n<table>\n<tr><th class=\"name\">camera</th><th>views used "
          "/<br>rejected / "
-      << "outliers</th><th>RMS<br>(px)</th><th>max<br>(px)</th><th>AX=ZB e<sub>t</sub><br>(mm)</th>"
-      << "<th>AX=ZB e<sub>θ</sub><br>(°)</th><th>rotation<br>spread (°)</th><th>axis<br>spread "
+      << "outliers</th><th>RMS<br>(px)</th><th>max<br>(px)</th><th>AX=ZB e<sub>t</sub><br>in " << frame
+      << " (mm)</th><th>AX=ZB e<sub>θ</sub><br>(°)</th><th>rotation<br>spread (°)</th><th>axis<br>spread "
          "(°)</th>";
-  if (!model.closed_form_method.empty())
-    out << "<th>vs " << Escape(model.closed_form_method)
-        << " closed form<br>Δt (mm) / Δθ (°) / Δ (px)</th>";
+  if (!closed_form.empty())
+    out << "<th>vs " << Escape(closed_form) << " closed form<br>Δt (mm) / Δθ (°) / Δ (px)</th>";
   out << "</tr>\n";
   for (size_t k = 0; k < model.cameras.size(); ++k) {
     const CameraModel& cam = model.cameras[k];
+    const CameraResult& r = *cam.result;
     out << "<tr" << (flagged(cam) ? " class=\"flag\"" : "") << "><td class=\"name\">"
         << Swatch(static_cast<int>(k)) << Escape(cam.camera->name) << "</td><td>" << cam.used
-        << " / " << cam.rejected << " / " << cam.outliers << "</td>";
-    if (cam.result->calibrated) {
-      out << "<td>" << Num(cam.rms_px, 3) << "</td><td>" << Num(cam.max_px, 3) << "</td>";
-      if (cam.axzb_views)
-        out << "<td>" << Num(cam.axzb_translation_mm, 2) << "</td><td>"
-            << Num(cam.axzb_rotation_deg, 3) << "</td>";
+        << " / " << cam.rejected << " / " << r.outliers << "</td>";
+    if (r.calibrated) {
+      out << "<td>" << Num(r.rms_px, 3) << "</td><td>" << Num(r.max_px, 3) << "</td>";
+      if (r.axzb.views)
+        out << "<td>" << Num(r.axzb.camera_frame_mm, 2) << "</td><td>" << Num(r.axzb.rotation_deg, 3) << "</td>";
       else
         out << "<td>–</td><td>–</td>";
     } else {
       out << "<td>–</td><td>–</td><td>–</td><td>–</td>";
     }
-    out << "<td>" << Num(cam.rotation_spread_deg, 1) << "</td><td>" << Num(cam.axis_spread_deg, 1)
-        << "</td>";
-    if (!model.closed_form_method.empty()) {
-      if (cam.closed_form.available)
-        out << "<td>" << Num(cam.closed_form.translation_mm, 2) << " / "
-            << Num(cam.closed_form.rotation_deg, 3) << " / "
-            << Num(cam.closed_form.displacement_px, 2) << "</td>";
+    out << "<td>" << Num(r.rotation_spread_deg, 1) << "</td><td>" << Num(r.axis_spread_deg, 1) << "</td>";
+    if (!closed_form.empty()) {
+      if (!r.closed_form)
+        out << "<td class=\"small\">not compared</td>";
+      else if (r.closed_form->available)
+        out << "<td>" << Num(r.closed_form->translation_mm, 2) << " / " << Num(r.closed_form->rotation_deg, 3)
+            << " / " << Num(r.closed_form->displacement_px, 2) << "</td>";
       else
-        out << "<td class=\"small\">" << Escape(cam.closed_form.why_not) << "</td>";
+        out << "<td class=\"small\">" << Escape(r.closed_form->why_not) << "</td>";
     }
     out << "</tr>\n";
   }
   out << "</table>\n<p class=\"small\">Highlighted rows have warnings. RMS and max: reprojection "
          "error of the used "
-      << "views through the calibrated chain. AX=ZB: mean disagreement between each view's own PnP "
-         "pose and the "
-      << "chain. Rotation spread: the largest robot rotation between two of the camera's poses; "
+      << "views through the calibrated chain. AX=ZB: mean disagreement between where each view's own PnP "
+         "pose and the chain put the camera, in the " << frame << " frame (the paper's form, in the target "
+         "frame, adds the lever arm to the " << frame << " origin: "
+      << Num(model.result->metrics.axzb_translation_mm, 2) << " mm over all cameras). Rotation spread: the largest robot rotation between two of the camera's poses; "
          "axis spread: the "
       << "largest angle between the rotation axes of those motions (hand-eye needs both large).";
-  if (!model.closed_form_method.empty())
-    out << " Closed form: " << Escape(model.closed_form_method)
+  if (!closed_form.empty())
+    out << " Closed form: " << Escape(closed_form)
         << "'s per-camera hand-eye; Δ (px) is how far the camera's detected points move in the "
            "image when seen from the closed form's camera pose instead of the result's (what the "
            "data can tell apart; the mm and degrees include directions the images barely "
@@ -372,7 +376,8 @@ std::string RenderHtml(const ReportModel& model, const PlotFiles& plots,
     out << "<p class=\"meta\">result: <code>" << Escape(options.result_label) << "</code></p>\n";
   out << "<div class=\"verdict " << (model.warnings.empty() ? "ok" : "warn") << "\">RMS <b>"
       << Num(result.metrics.rms_px, 3) << " px</b> over all used views · AX=ZB <b>"
-      << Num(result.metrics.axzb_translation_mm, 2) << " mm</b> / <b>"
+      << Num(result.metrics.axzb_camera_translation_mm, 2) << " mm</b> (cameras in the "
+      << (result.setup == Setup::kEyeToHand ? "base" : "ee") << " frame) / <b>"
       << Num(result.metrics.axzb_rotation_deg, 3) << "°</b> · solver "
       << (result.solver.converged ? "converged" : "<span class=\"bad\">did not converge</span>")
       << " (" << result.solver.iterations << " iterations, " << Num(result.solver.seconds, 2)

@@ -1,13 +1,11 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// The report's model: every view pushed through the calibrated chain, the
-// per-camera statistics, and the warnings a person must see before accepting
-// a calibration.
+// The report's model: every view pushed through the calibrated chain, for
+// drawing. The figures and warnings are the result's (Calibrate() computed
+// them, handeye/core/diagnostics.h); the report recomputes none of them.
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <opencv2/calib3d.hpp>
 #include <set>
-#include <sstream>
 
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
@@ -17,14 +15,6 @@ namespace handeye::report {
 namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
-
-std::string Fixed(double value, int decimals) {
-  std::ostringstream out;
-  out.setf(std::ios::fixed);
-  out.precision(decimals);
-  out << value;
-  return out.str();
-}
 
 // X_k and M_j of calibration.h's chain p_cam = X_k · M_j · Z · p_target.
 Eigen::Isometry3d ChainM(const Dataset& dataset, int pose) {
@@ -36,30 +26,6 @@ Eigen::Isometry3d ChainM(const Dataset& dataset, int pose) {
 // methods (as the solver reports them), the shared one otherwise.
 Eigen::Isometry3d ChainZ(const CalibrationResult& result, const CameraResult& camera) {
   return camera.own_T_target.value_or(result.T_target);
-}
-
-std::optional<Eigen::Isometry3d> SolvePnp(const Camera& camera, const ViewModel& view) {
-  if (view.p_target.size() < 4) return std::nullopt;
-  std::vector<cv::Point3d> object;
-  std::vector<cv::Point2d> image;
-  for (size_t i = 0; i < view.p_target.size(); ++i) {
-    object.emplace_back(view.p_target[i].x(), view.p_target[i].y(), view.p_target[i].z());
-    image.emplace_back(view.observation->points_px[i].x(), view.observation->points_px[i].y());
-  }
-  const cv::Matx33d K(camera.fx(), 0, camera.cx(), 0, camera.fy(), camera.cy(), 0, 0, 1);
-  const std::vector<double> dist = camera.Distortion();
-  cv::Mat rvec, tvec;
-  try {
-    // Planar target: IPPE gives the pose in closed form, LM polishes it.
-    if (!cv::solvePnP(object, image, K, dist, rvec, tvec, false, cv::SOLVEPNP_IPPE))
-      return std::nullopt;
-    cv::solvePnPRefineLM(object, image, K, dist, rvec, tvec);
-  } catch (const cv::Exception&) {
-    return std::nullopt;
-  }
-  return MakeTransformFromRotationVector(
-      Eigen::Vector3d(rvec.at<double>(0), rvec.at<double>(1), rvec.at<double>(2)),
-      Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2)));
 }
 
 std::vector<std::optional<Eigen::Vector2d>> ProjectAll(
@@ -96,143 +62,6 @@ double NiceCeil(double value) {
   for (double m : {1.0, 2.0, 5.0, 10.0})
     if (m * decade >= value * (1 - 1e-12)) return m * decade;
   return 10.0 * decade;
-}
-
-// Robot rotation diversity of one camera's used views (see ReportOptions).
-void RotationDiversity(const Dataset& dataset, const std::vector<int>& poses, double* spread_deg,
-                       double* axis_spread_deg) {
-  std::vector<Eigen::Vector3d> axes;
-  *spread_deg = 0;
-  for (size_t a = 0; a < poses.size(); ++a)
-    for (size_t b = a + 1; b < poses.size(); ++b) {
-      const Eigen::Matrix3d R = dataset.poses[poses[a]].T_base_ee.rotation().transpose() *
-                                dataset.poses[poses[b]].T_base_ee.rotation();
-      const Eigen::Vector3d rv = RotationVectorFromMatrix(R);
-      *spread_deg = std::max(*spread_deg, rv.norm() * kRadToDeg);
-      // Axes of motions of a couple of degrees are noise-dominated.
-      if (rv.norm() > 5.0 / kRadToDeg) axes.push_back(rv.normalized());
-    }
-  double best_cos = 1.0;
-  for (size_t a = 0; a < axes.size(); ++a)
-    for (size_t b = a + 1; b < axes.size(); ++b)
-      best_cos = std::min(best_cos, std::abs(axes[a].dot(axes[b])));
-  *axis_spread_deg = axes.size() < 2 ? 0.0 : std::acos(std::clamp(best_cos, 0.0, 1.0)) * kRadToDeg;
-}
-
-void CompareWithClosedForm(const ReportModel& model, Method method,
-                           std::vector<CameraModel>* cameras, std::vector<std::string>* notes) {
-  const Dataset& dataset = *model.dataset;
-  CalibrationOptions options;
-  options.method = method;
-  CalibrationResult closed;
-  try {
-    closed = Calibrate(dataset, options);
-  } catch (const std::exception& e) {
-    notes->push_back(std::string("no per-camera closed-form comparison: ") + MethodName(method) +
-                     " failed: " + e.what());
-    for (auto& cam : *cameras)
-      cam.closed_form.why_not = MethodName(method) + std::string(" failed");
-    return;
-  }
-  for (size_t k = 0; k < cameras->size(); ++k) {
-    CameraModel& cam = (*cameras)[k];
-    const CameraResult& cf = closed.cameras[k];
-    if (!cam.result->calibrated) {
-      cam.closed_form.why_not = "not calibrated";
-      continue;
-    }
-    if (!cf.calibrated) {
-      cam.closed_form.why_not = std::string(MethodName(method)) + " could not calibrate it";
-      continue;
-    }
-    ClosedFormComparison& cmp = cam.closed_form;
-    cmp.available = true;
-    cmp.translation_mm = 1000.0 * (cf.T_cam.translation() - cam.result->T_cam.translation()).norm();
-    cmp.rotation_deg =
-        RotationDistance(cf.T_cam.rotation(), cam.result->T_cam.rotation()) * kRadToDeg;
-    // The camera pose difference in pixels: the same target points (placed by
-    // the result's chain) seen from the closed form's camera pose. Each
-    // method's own chain would not do: a closed form's error in X is largely
-    // made up by its own Z, so its predictions agree while X does not.
-    const Eigen::Isometry3d X_cf = cf.T_cam.inverse();
-    const Eigen::Isometry3d X = cam.result->T_cam.inverse();
-    double sum = 0;
-    int n = 0;
-    for (int v : cam.views) {
-      const ViewModel& view = model.views[v];
-      if (!view.used || !view.T_cam_target) continue;
-      const auto closed_px =
-          ProjectAll(*cam.camera, X_cf * X.inverse() * *view.T_cam_target, view.p_target);
-      for (size_t i = 0; i < closed_px.size(); ++i) {
-        if (!closed_px[i] || !view.predicted_px[i]) continue;
-        sum += (*closed_px[i] - *view.predicted_px[i]).norm();
-        ++n;
-      }
-    }
-    cmp.displacement_px = n ? sum / n : 0.0;
-  }
-}
-
-void AddWarnings(const ReportOptions& options, ReportModel* model) {
-  const CalibrationResult& result = *model->result;
-  auto& warnings = model->warnings;
-  if (!result.solver.converged)
-    warnings.push_back("the solver did not converge (" +
-                       (result.solver.termination.empty() ? std::string("no reason given")
-                                                          : result.solver.termination) +
-                       "): the numbers below are not a calibration");
-  for (const CameraModel& cam : model->cameras) {
-    const std::string name = "camera '" + cam.camera->name + "'";
-    if (!cam.result->calibrated) {
-      warnings.push_back(name + " is not calibrated (" + std::to_string(cam.used) +
-                         " usable views)");
-      continue;
-    }
-    if (cam.used < options.min_views_per_camera)
-      warnings.push_back(name + ": few views, only " + std::to_string(cam.used) +
-                         " used (fewer than " + std::to_string(options.min_views_per_camera) +
-                         "); one bad pose moves its result visibly; add robot poses in its view");
-    if (cam.rotation_spread_deg < options.min_rotation_spread_deg)
-      warnings.push_back(
-          name + ": poor rotation diversity, its views differ in robot rotation by at most " +
-          Fixed(cam.rotation_spread_deg, 1) + "° (< " + Fixed(options.min_rotation_spread_deg, 0) +
-          "°); tilt the target more between poses");
-    else if (cam.axis_spread_deg < options.min_axis_spread_deg)
-      warnings.push_back(
-          name + ": poor rotation diversity, the robot motions between its views turn about " +
-          "nearly one axis (largest angle between axes " + Fixed(cam.axis_spread_deg, 1) + "° < " +
-          Fixed(options.min_axis_spread_deg, 0) + "°); rotate about a second axis too");
-    if (cam.rms_px > options.max_camera_rms_px)
-      warnings.push_back(name + ": large residuals, RMS " + Fixed(cam.rms_px, 2) +
-                         " px through the calibrated chain (> " +
-                         Fixed(options.max_camera_rms_px, 2) + " px)");
-    if (cam.outliers > 0) {
-      std::string list;
-      int listed = 0;
-      for (int v : cam.views) {
-        const ViewModel& view = model->views[v];
-        if (!view.outlier) continue;
-        if (listed++ == 5) {
-          list += ", …";
-          break;
-        }
-        list += (list.empty() ? "" : ", ") + std::string("pose ") + view.observation->pose_id +
-                " (RMS " + Fixed(view.rms_px, 2) + " px)";
-      }
-      warnings.push_back(name + ": " + std::to_string(cam.outliers) +
-                         (cam.outliers == 1 ? " view" : " views") +
-                         " down-weighted as outliers by the solver: " + list);
-    }
-    const ClosedFormComparison& cf = cam.closed_form;
-    if (cf.available && cf.displacement_px > options.max_closed_form_disagreement_px)
-      warnings.push_back(name + ": the result and " + model->closed_form_method +
-                         "'s per-camera closed form disagree by " + Fixed(cf.displacement_px, 1) +
-                         " px in the image (" + Fixed(cf.translation_mm, 1) + " mm, " +
-                         Fixed(cf.rotation_deg, 2) + "°; threshold " +
-                         Fixed(options.max_closed_form_disagreement_px, 0) +
-                         " px); check this camera's robot poses and views");
-  }
-  for (const auto& w : result.warnings) warnings.push_back("calibration: " + w);
 }
 
 }  // namespace
@@ -319,20 +148,21 @@ ReportModel BuildModel(const Dataset& dataset, const CalibrationResult& result,
     }
     const CameraModel& cam = model.cameras[view.camera];
     const auto found = view_results.find({obs.pose_id, obs.camera});
-    if (found != view_results.end()) {
-      view.used = found->second->used;
-      view.outlier = found->second->outlier;
-      view.rejected_because = found->second->rejected_because;
-    } else if (!result.views.empty()) {
-      ++missing_from_result;
-    }
     if (cam.result->calibrated) {
       view.T_cam_target =
           cam.result->T_cam.inverse() * ChainM(dataset, view.pose) * ChainZ(result, *cam.result);
       view.predicted_px = ProjectAll(*cam.camera, *view.T_cam_target, view.p_target);
       view.rms_px = Rms(view.predicted_px, obs.points_px, &view.max_px, &view.residual_px);
     }
-    view.T_cam_target_pnp = SolvePnp(*cam.camera, view);
+    if (found != view_results.end()) {
+      view.used = found->second->used;
+      view.outlier = found->second->outlier;
+      view.rejected_because = found->second->rejected_because;
+      view.rms_px = found->second->rms_px;
+      view.max_px = found->second->max_px;
+    } else if (!result.views.empty()) {
+      ++missing_from_result;
+    }
     const std::string base = cam.folder + "/" + SafeFileName(obs.pose_id);
     std::string unique = base;
     while (!thumb_names.insert(unique).second) unique += "_";
@@ -368,48 +198,18 @@ ReportModel BuildModel(const Dataset& dataset, const CalibrationResult& result,
     }
   }
 
-  // Per-camera statistics over the used views.
+  // Each camera's views, and the residuals of the used ones for the colour scale.
   std::vector<double> all_residuals;
-  for (size_t k = 0; k < model.cameras.size(); ++k) {
-    CameraModel& cam = model.cameras[k];
-    double sq = 0;
-    int n = 0;
-    std::vector<int> poses;
-    for (size_t i = 0; i < model.views.size(); ++i) {
-      const ViewModel& view = model.views[i];
-      if (view.camera != static_cast<int>(k)) continue;
-      cam.views.push_back(static_cast<int>(i));
-      if (!view.used) {
-        ++cam.rejected;
-        continue;
-      }
-      ++cam.used;
-      cam.outliers += view.outlier ? 1 : 0;
-      poses.push_back(view.pose);
-      for (double e : view.residual_px) {
-        sq += e * e;
-        ++n;
-        cam.max_px = std::max(cam.max_px, e);
-        all_residuals.push_back(e);
-      }
-      if (view.T_cam_target && view.T_cam_target_pnp) {
-        // The paper's AX = ZB check (as the solver's metrics): both sides are
-        // T_target_base (eye_to_hand) or T_target_ee (eye_in_hand).
-        const Eigen::Isometry3d X = cam.result->T_cam.inverse();
-        const Eigen::Isometry3d Z = ChainZ(result, *cam.result);
-        const Eigen::Isometry3d AX = view.T_cam_target_pnp->inverse() * X;
-        const Eigen::Isometry3d ZB = Z.inverse() * ChainM(dataset, view.pose).inverse();
-        cam.axzb_translation_mm += 1000.0 * (AX.translation() - ZB.translation()).norm();
-        cam.axzb_rotation_deg += RotationDistance(AX.rotation(), ZB.rotation()) * kRadToDeg;
-        ++cam.axzb_views;
-      }
+  for (size_t i = 0; i < model.views.size(); ++i) {
+    const ViewModel& view = model.views[i];
+    CameraModel& cam = model.cameras[view.camera];
+    cam.views.push_back(static_cast<int>(i));
+    if (!view.used) {
+      ++cam.rejected;
+      continue;
     }
-    cam.rms_px = n ? std::sqrt(sq / n) : 0.0;
-    if (cam.axzb_views) {
-      cam.axzb_translation_mm /= cam.axzb_views;
-      cam.axzb_rotation_deg /= cam.axzb_views;
-    }
-    RotationDiversity(dataset, poses, &cam.rotation_spread_deg, &cam.axis_spread_deg);
+    ++cam.used;
+    all_residuals.insert(all_residuals.end(), view.residual_px.begin(), view.residual_px.end());
   }
 
   // One colour scale for the whole report: up to the 99th percentile of the
@@ -422,12 +222,8 @@ ReportModel BuildModel(const Dataset& dataset, const CalibrationResult& result,
     model.residual_scale_max_px = std::max(1.0, NiceCeil(all_residuals[at]));
   }
 
-  if (options.compare_closed_form) {
-    const Method method = result.method == Method::kPark ? Method::kVisp : Method::kPark;
-    model.closed_form_method = method == Method::kPark ? "Park" : "ViSP";
-    CompareWithClosedForm(model, method, &model.cameras, &model.notes);
-  }
-  AddWarnings(options, &model);
+  model.show_closed_form = options.compare_closed_form;
+  model.warnings.insert(model.warnings.end(), result.warnings.begin(), result.warnings.end());
   return model;
 }
 
