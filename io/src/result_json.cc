@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "handeye/core/transform.h"
 #include "handeye/io/atomic_file.h"
 #include "handeye/io/json_util.h"
 
@@ -21,13 +22,11 @@ const char* TargetKey(Setup setup) { return setup == Setup::kEyeToHand ? "T_ee_t
 void AddSummary(const Eigen::Isometry3d& T, nlohmann::ordered_json* out) {
   const Eigen::Vector3d t = 1000.0 * T.translation();
   const Eigen::Matrix3d R = T.rotation();
-  const double pitch = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
-  const double roll = std::atan2(R(2, 1), R(2, 2));
-  const double yaw = std::atan2(R(1, 0), R(0, 0));
+  const Eigen::Vector3d rpy = kRadToDeg * RollPitchYaw(R);
   Eigen::Quaterniond q(R);
   if (q.w() < 0) q.coeffs() = -q.coeffs();
   (*out)["translation_mm"] = {t.x(), t.y(), t.z()};
-  (*out)["rpy_deg"] = {roll * kRadToDeg, pitch * kRadToDeg, yaw * kRadToDeg};
+  (*out)["rpy_deg"] = {rpy.x(), rpy.y(), rpy.z()};
   (*out)["quaternion_xyzw"] = {q.x(), q.y(), q.z(), q.w()};
 }
 

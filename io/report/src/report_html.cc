@@ -226,7 +226,7 @@ void CameraTables(const ReportModel& model, std::ostringstream& out) {
     if (cam.result->calibrated) {
       const Eigen::Isometry3d& Tc = cam.result->T_cam;
       out << "<td>" << Triple(1000.0 * Tc.translation(), 2) << "</td><td>"
-          << Triple(RollPitchYawDeg(Tc.rotation()), 3) << "</td><td>" << Quaternion(Tc.rotation())
+          << Triple(RollPitchYaw(Tc.rotation()) * (180.0 / M_PI), 3) << "</td><td>" << Quaternion(Tc.rotation())
           << "</td>";
     } else {
       out << "<td colspan=\"3\" class=\"name bad\">not calibrated</td>";
@@ -297,7 +297,7 @@ void CameraTables(const ReportModel& model, std::ostringstream& out) {
 
 void TransformRow(const std::string& name, const Eigen::Isometry3d& T, std::ostringstream& out) {
   out << "<tr><td class=\"name\">" << name << "</td><td>" << Triple(1000.0 * T.translation(), 2)
-      << "</td><td>" << Triple(RollPitchYawDeg(T.rotation()), 3) << "</td><td>"
+      << "</td><td>" << Triple(RollPitchYaw(T.rotation()) * (180.0 / M_PI), 3) << "</td><td>"
       << Quaternion(T.rotation()) << "</td>";
 }
 

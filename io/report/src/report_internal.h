@@ -81,10 +81,6 @@ struct ReportModel {
 ReportModel BuildModel(const Dataset& dataset, const CalibrationResult& result,
                        const ReportOptions& options);
 
-/// Fixed-axis roll, pitch, yaw (degrees) with R = Rz(yaw)·Ry(pitch)·Rx(roll),
-/// as in handeye-result/1's summaries.
-Eigen::Vector3d RollPitchYawDeg(const Eigen::Matrix3d& R);
-
 /// `name` reduced to [A-Za-z0-9._-] (others become '_'), never empty, never "." or "..".
 std::string SafeFileName(const std::string& name);
 

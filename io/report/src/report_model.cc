@@ -14,8 +14,6 @@
 namespace handeye::report {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / M_PI;
-
 // X_k and M_j of calibration.h's chain p_cam = X_k · M_j · Z · p_target.
 Eigen::Isometry3d ChainM(const Dataset& dataset, int pose) {
   const Eigen::Isometry3d& T_base_ee = dataset.poses[pose].T_base_ee;
@@ -65,13 +63,6 @@ double NiceCeil(double value) {
 }
 
 }  // namespace
-
-Eigen::Vector3d RollPitchYawDeg(const Eigen::Matrix3d& R) {
-  const double pitch = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
-  const double roll = std::atan2(R(2, 1), R(2, 2));
-  const double yaw = std::atan2(R(1, 0), R(0, 0));
-  return kRadToDeg * Eigen::Vector3d(roll, pitch, yaw);
-}
 
 std::string SafeFileName(const std::string& name) {
   std::string out;
