@@ -158,12 +158,12 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
       std::vector<Eigen::Isometry3d> Z_estimates;
       for (size_t k = 0; k < num_cameras; ++k)
         if (init.fixed_X[k])
-          if (const auto Z = internal::TargetFromCamera(problem, static_cast<int>(k), *init.X[k])) Z_estimates.push_back(*Z);
+          if (const auto Z = internal::TargetGivenCamera(problem, static_cast<int>(k), *init.X[k])) Z_estimates.push_back(*Z);
       if (!Z_estimates.empty()) {
         init.Z = internal::MeanTransform(Z_estimates);
         for (size_t k = 0; k < num_cameras; ++k)
           if (init.X[k] && !init.fixed_X[k])
-            if (const auto X = internal::CameraFromTarget(problem, static_cast<int>(k), init.Z)) init.X[k] = *X;
+            if (const auto X = internal::CameraGivenTarget(problem, static_cast<int>(k), init.Z)) init.X[k] = *X;
         result.notes.push_back(std::to_string(options.fixed_cameras.size()) +
                                " camera(s) held at their given poses; the others and the target transform solved");
       }

@@ -255,8 +255,8 @@ Eigen::Isometry3d ConsensusTransform(const std::vector<Eigen::Isometry3d>& estim
 
 }  // namespace
 
-std::optional<Eigen::Isometry3d> CameraFromTarget(const Problem& problem, int camera,
-                                                  const Eigen::Isometry3d& Z) {
+std::optional<Eigen::Isometry3d> CameraGivenTarget(const Problem& problem, int camera,
+                                                   const Eigen::Isometry3d& Z) {
   std::vector<Eigen::Isometry3d> estimates;
   for (int v : problem.camera_views[camera]) {
     const View& view = problem.views[v];
@@ -266,8 +266,8 @@ std::optional<Eigen::Isometry3d> CameraFromTarget(const Problem& problem, int ca
   return ConsensusTransform(estimates);
 }
 
-std::optional<Eigen::Isometry3d> TargetFromCamera(const Problem& problem, int camera,
-                                                  const Eigen::Isometry3d& X) {
+std::optional<Eigen::Isometry3d> TargetGivenCamera(const Problem& problem, int camera,
+                                                   const Eigen::Isometry3d& X) {
   std::vector<Eigen::Isometry3d> estimates;
   for (int v : problem.camera_views[camera]) {
     const View& view = problem.views[v];
