@@ -17,7 +17,7 @@
 #include "handeye/core/evaluation.h"
 #include "handeye/core/uncertainty.h"
 #include "handeye/detectors/registry.h"
-#include "handeye/io/simulation.h"
+#include "handeye/sim/simulation.h"
 #include "support/bench_support.h"
 
 using namespace handeye;

@@ -8,9 +8,9 @@
 #include <cstdio>
 #include <map>
 
-#include "handeye/core/synthetic.h"
 #include "handeye/detectors/registry.h"
-#include "handeye/io/render.h"
+#include "handeye/sim/render.h"
+#include "handeye/sim/synthetic.h"
 #include "support/bench_support.h"
 
 using namespace handeye;

@@ -27,8 +27,8 @@
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/detection.h"
 #include "handeye/io/image.h"
-#include "handeye/io/report.h"
-#include "handeye/io/simulation.h"
+#include "handeye/report/report.h"
+#include "handeye/sim/simulation.h"
 #include "support/bench_support.h"
 
 extern char** environ;

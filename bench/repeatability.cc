@@ -19,7 +19,7 @@
 #include "handeye/core/checkerboard.h"
 #include "handeye/core/evaluation.h"
 #include "handeye/core/transform.h"
-#include "handeye/io/simulation.h"
+#include "handeye/sim/simulation.h"
 #include "support/bench_support.h"
 
 using namespace handeye;

@@ -15,10 +15,10 @@
 
 #include "handeye/core/calibration.h"
 #include "handeye/core/checkerboard.h"
-#include "handeye/core/synthetic.h"
 #include "handeye/core/transform.h"
-#include "handeye/io/render.h"
-#include "handeye/io/simulation.h"
+#include "handeye/sim/render.h"
+#include "handeye/sim/simulation.h"
+#include "handeye/sim/synthetic.h"
 #include "support/bench_support.h"
 
 using namespace handeye;

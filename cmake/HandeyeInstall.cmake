@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
-# `cmake --install`: headers under include/handeye/, the three libraries and
+# `cmake --install`: headers under include/handeye/, the five libraries and
 # the program, and a CMake package (handeyeConfig.cmake, its version file and
 # the exported targets handeye::core, handeye::detectors, handeye::io,
-# handeye::handeye). Included from the top-level CMakeLists.txt after the
-# targets exist.
+# handeye::sim, handeye::report, handeye::handeye). Included from the
+# top-level CMakeLists.txt after the targets exist.
 include(CMakePackageConfigHelpers)
 
 set(HANDEYE_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/handeye"
@@ -11,14 +11,20 @@ set(HANDEYE_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/handeye"
 
 # Every public header of every module, whatever files are added later:
 # core/include/handeye/core/*.h → include/handeye/core/*.h, and so on.
-foreach(module core detectors io)
+foreach(module core detectors io io/sim io/report)
   install(DIRECTORY "${PROJECT_SOURCE_DIR}/${module}/include/"
           DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}"
           COMPONENT handeye_development
           FILES_MATCHING PATTERN "*.h")
 endforeach()
 
-install(TARGETS handeye_core handeye_detectors handeye_io handeye
+set(HANDEYE_INSTALLED_TARGETS handeye_core handeye_detectors handeye_io handeye_sim handeye_report handeye)
+# The internal worker pool is linked into the libraries; static ones pass it on
+# to their users' link lines, so then it is installed (no header) and exported.
+if(NOT BUILD_SHARED_LIBS)
+  list(APPEND HANDEYE_INSTALLED_TARGETS handeye_parallel)
+endif()
+install(TARGETS ${HANDEYE_INSTALLED_TARGETS}
         EXPORT handeyeTargets
         RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}" COMPONENT handeye_runtime
         LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}" COMPONENT handeye_runtime

@@ -9,9 +9,9 @@
 // OUTDIR (default: dot_grid_cell), then does what you would do with your own
 // images: load the dataset file, detect, calibrate. Exit code 0 when every
 // camera lands within 1 mm and 0.05° of the simulation's truth.
-#include <handeye/core/synthetic.h>
+#include <handeye/sim/synthetic.h>
 #include <handeye/handeye.h>
-#include <handeye/io/simulation.h>
+#include <handeye/sim/simulation.h>
 
 #include <algorithm>
 #include <cmath>

@@ -17,8 +17,8 @@
 #include "handeye/core/error.h"
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/detection.h"
-#include "handeye/io/report.h"
 #include "handeye/io/result_json.h"
+#include "handeye/report/report.h"
 
 namespace handeye::tools {
 namespace {
@@ -40,6 +40,7 @@ struct CalibrateArgs {
   std::string from;               // --from RESULT
   std::string keep_cameras;       // --keep-cameras LIST
   bool cross_validate = false;
+  bool no_closed_form = false;
   std::string observations_out;  // --observations-out FILE
 };
 
@@ -65,7 +66,9 @@ void PrintSummary(const CalibrationResult& result) {
     std::printf("%-12s %10.2f %10.2f %10.2f %8.3f %6d\n", cam.name.c_str(), t.x(), t.y(), t.z(), cam.rms_px,
                 cam.views);
   }
-  std::printf("rms %.3f px, AX=ZB %.3f mm / %.4f deg, %d iterations, %.3f s\n", result.metrics.rms_px,
+  std::printf("rms %.3f px, AX=ZB %.3f mm (cameras in the %s frame; %.3f mm in the target frame) / %.4f deg, "
+              "%d iterations, %.3f s\n",
+              result.metrics.rms_px, result.metrics.axzb_camera_translation_mm, eye_to_hand ? "base" : "ee",
               result.metrics.axzb_translation_mm, result.metrics.axzb_rotation_deg, result.solver.iterations,
               result.solver.seconds);
   for (const CameraResult& cam : result.cameras)
@@ -92,6 +95,7 @@ void RunCalibrate(const CalibrateArgs& args) {
   options.method = *method;
   options.cauchy_scale_px = args.cauchy_scale_px;
   options.cross_terms = !args.no_cross_terms;
+  options.compare_closed_form = !args.no_closed_form;
   options.reject_views = !args.keep_all_views;
   options.robot_sigma_mm = args.robot_sigma_mm;
   options.robot_sigma_deg = args.robot_sigma_deg;
@@ -156,6 +160,7 @@ void RunCalibrate(const CalibrateArgs& args) {
   } catch (const InputError& e) {
     throw e.file().empty() ? e.WithFile(args.input) : e;
   }
+  result.input = args.input;
   PrintWarnings(result.warnings);
   for (const auto& note : result.notes) std::cerr << "note: " << note << "\n";
   SaveResult(result, args.output);
@@ -209,6 +214,8 @@ void RegisterCalibrate(CLI::App& app) {
                 "joint: leave each robot pose out in turn, solve again and predict its views: held-out RMS "
                 "and the spread of each camera's pose over the folds (one solve per pose)");
   cmd->add_flag("--no-cross-terms", args->no_cross_terms, "joint: leave out the camera-to-camera terms");
+  cmd->add_flag("--no-closed-form", args->no_closed_form,
+                "skip the comparison of each camera with a per-camera closed-form solution");
   cmd->add_option("--threads", args->threads, "threads for detection and the solver (0 = all cores)")
       ->check(ThreadCount());
   cmd->add_flag("--reorthonormalise", args->reorthonormalise,

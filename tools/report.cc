@@ -2,7 +2,7 @@
 // `handeye report DATASET RESULT -o DIR`: per-view overlays, plots and an
 // HTML page for a person to accept or reject a calibration (SPEC §7), drawn
 // off-screen.
-#include "handeye/io/report.h"
+#include "handeye/report/report.h"
 
 #include <cstdio>
 #include <iostream>
@@ -100,7 +100,7 @@ void RegisterReport(CLI::App& app) {
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(ThreadCount());
   cmd->add_flag("--no-closed-form", args->no_closed_form,
-                "skip the comparison with a per-camera closed-form solution");
+                "leave out the result's comparison with a per-camera closed-form solution (its table column)");
   cmd->add_flag("--reorthonormalise", args->reorthonormalise,
                 "replace slightly non-orthonormal robot rotations by the nearest rotation");
   AddQuietFlag(cmd, &args->quiet);

@@ -12,8 +12,8 @@
 #include "cli_numbers.h"
 #include "commands.h"
 #include "handeye/core/error.h"
-#include "handeye/core/synthetic.h"
-#include "handeye/io/simulation.h"
+#include "handeye/sim/simulation.h"
+#include "handeye/sim/synthetic.h"
 #include "target_options.h"
 
 namespace handeye::tools {

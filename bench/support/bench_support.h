@@ -9,7 +9,7 @@
 
 #include "handeye/core/calibration.h"
 #include "handeye/core/dataset.h"
-#include "handeye/core/synthetic.h"
+#include "handeye/sim/synthetic.h"
 
 namespace handeye::bench {
 

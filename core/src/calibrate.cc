@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "calibration_internal.h"
+#include "diagnostics_internal.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
 
@@ -18,8 +19,6 @@ namespace {
 
 using internal::Problem;
 using internal::View;
-
-constexpr double kRadToDeg = 180.0 / M_PI;
 
 // The estimate of camera k: X_k and the Z it uses.
 struct Estimate {
@@ -63,16 +62,10 @@ Estimate PerCameraEstimate(const Problem& problem, const CameraSolve& solve, con
   return est;
 }
 
-void FillResult(const Problem& problem, const Estimate& est, const CalibrationOptions& options,
-                CalibrationResult* result) {
+// The result's views and cameras as the solution leaves them; their
+// residuals and the metrics come from DiagnoseSolution.
+void FillResult(const Problem& problem, const Estimate& est, CalibrationResult* result) {
   const Dataset& dataset = *problem.dataset;
-  const size_t n = dataset.cameras.size();
-  std::vector<double> sq_sum(n, 0.0);
-  std::vector<int> points(n, 0);
-  double total_sq = 0;
-  int total_points = 0;
-  double axzb_t = 0, axzb_r = 0;
-  int axzb_count = 0;
   for (const View& view : problem.views) {
     ViewResult vr;
     vr.pose_id = view.observation->pose_id;
@@ -80,27 +73,9 @@ void FillResult(const Problem& problem, const Estimate& est, const CalibrationOp
     vr.num_points = static_cast<int>(view.p_target.size());
     vr.used = view.used;
     vr.rejected_because = view.rejected_because;
-    const auto& X = est.X[view.camera];
-    if (X) {
-      const Eigen::Isometry3d& Z = est.per_camera_Z ? est.Z[view.camera] : est.shared_Z;
-      const auto errors = internal::ViewErrors(problem, view, *X, Z);
-      vr.rms_px = internal::ViewRms(errors, &vr.max_px);
-      vr.outlier = view.used && vr.rms_px > 3.0 * result->solver.cauchy_scale_px;
-      if (view.used) {
-        for (double e : errors) sq_sum[view.camera] += e * e;
-        points[view.camera] += static_cast<int>(errors.size());
-        // Paper eq. (real_metrics): A_j X = Z' B_j, A_j = T_target_cam[j] (PnP),
-        // Z' = Z⁻¹, B_j = M_j⁻¹; both sides are T_target_base (T_target_ee).
-        const Eigen::Isometry3d AX = view.T_cam_target->inverse() * *X;
-        const Eigen::Isometry3d ZB = Z.inverse() * problem.M[view.pose].inverse();
-        axzb_t += (AX.translation() - ZB.translation()).norm();
-        axzb_r += RotationDistance(AX.rotation(), ZB.rotation());
-        ++axzb_count;
-      }
-    }
     result->views.push_back(vr);
   }
-  for (size_t k = 0; k < n; ++k) {
+  for (size_t k = 0; k < dataset.cameras.size(); ++k) {
     CameraResult cam;
     cam.name = dataset.cameras[k].name;
     cam.calibrated = est.X[k].has_value();
@@ -109,20 +84,12 @@ void FillResult(const Problem& problem, const Estimate& est, const CalibrationOp
     if (cam.calibrated) {
       cam.T_cam = est.X[k]->inverse();
       if (est.per_camera_Z) cam.own_T_target = est.Z[k];
-      cam.rms_px = points[k] ? std::sqrt(sq_sum[k] / points[k]) : 0.0;
-      total_sq += sq_sum[k];
-      total_points += points[k];
     } else if (cam.views == 0) {
       result->warnings.push_back("camera '" + cam.name + "' never saw the target: not calibrated");
     }
     result->cameras.push_back(cam);
   }
   result->T_target = est.shared_Z;
-  result->metrics.rms_px = total_points ? std::sqrt(total_sq / total_points) : 0.0;
-  if (axzb_count) {
-    result->metrics.axzb_translation_mm = 1000.0 * axzb_t / axzb_count;
-    result->metrics.axzb_rotation_deg = kRadToDeg * axzb_r / axzb_count;
-  }
 }
 
 /// For each camera, the groups the intrinsics check looks at: focal length
@@ -205,12 +172,12 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
       std::vector<Eigen::Isometry3d> Z_estimates;
       for (size_t k = 0; k < num_cameras; ++k)
         if (init.fixed_X[k])
-          if (const auto Z = internal::TargetFromCamera(problem, static_cast<int>(k), *init.X[k])) Z_estimates.push_back(*Z);
+          if (const auto Z = internal::TargetGivenCamera(problem, static_cast<int>(k), *init.X[k])) Z_estimates.push_back(*Z);
       if (!Z_estimates.empty()) {
         init.Z = internal::MeanTransform(Z_estimates);
         for (size_t k = 0; k < num_cameras; ++k)
           if (init.X[k] && !init.fixed_X[k])
-            if (const auto X = internal::CameraFromTarget(problem, static_cast<int>(k), init.Z)) init.X[k] = *X;
+            if (const auto X = internal::CameraGivenTarget(problem, static_cast<int>(k), init.Z)) init.X[k] = *X;
         result.notes.push_back(std::to_string(options.fixed_cameras.size()) +
                                " camera(s) held at their given poses; the others and the target transform solved");
       }
@@ -422,7 +389,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
         result.camera_pairs.push_back(p);
       }
   }
-  FillResult(problem, est, options, &result);
+  FillResult(problem, est, &result);
   for (auto& [k, intrinsics] : refined_intrinsics) result.cameras[k].intrinsics = intrinsics;
   for (auto& [k, sigma] : camera_sigma) result.cameras[k].sigma = sigma;
   for (size_t k = 0; k < camera_validation.size(); ++k)
@@ -434,6 +401,10 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
                                      UnrefinedIntrinsics(free_intrinsics, num_cameras), robot_model);
     result.warnings.insert(result.warnings.end(), intrinsics_warnings.begin(), intrinsics_warnings.end());
   }
+  const auto quality = internal::DiagnoseSolution(problem, est.X, Z, options, &result);
+  result.warnings.insert(result.warnings.end(), quality.begin(), quality.end());
+  result.options = options;
+  result.handeye_version = HANDEYE_VERSION;
   result.solver.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -97,12 +97,13 @@ std::string MotionDiversityProblem(const Problem& problem, const std::vector<int
 /// Chordal L2 mean of rotations and mean of translations.
 Eigen::Isometry3d MeanTransform(const std::vector<Eigen::Isometry3d>& transforms);
 
-/// X_k from a given Z and camera k's PnP views (mean of T_cam_target · Z⁻¹ · M_j⁻¹).
-std::optional<Eigen::Isometry3d> CameraFromTarget(const Problem& problem, int camera,
-                                                  const Eigen::Isometry3d& Z);
-/// Z from a given X_k and camera k's PnP views (mean of M_j⁻¹ · X_k⁻¹ · T_cam_target).
-std::optional<Eigen::Isometry3d> TargetFromCamera(const Problem& problem, int camera,
-                                                  const Eigen::Isometry3d& X);
+/// Camera k's X_k given Z, from its PnP views (consensus of T_cam_target · Z⁻¹ · M_j⁻¹).
+/// (Not a T_cam_target: sim's TrueCameraFromTarget is that.)
+std::optional<Eigen::Isometry3d> CameraGivenTarget(const Problem& problem, int camera,
+                                                   const Eigen::Isometry3d& Z);
+/// Z given camera k's X_k, from its PnP views (consensus of M_j⁻¹ · X_k⁻¹ · T_cam_target).
+std::optional<Eigen::Isometry3d> TargetGivenCamera(const Problem& problem, int camera,
+                                                   const Eigen::Isometry3d& X);
 
 /// Closed-form hand-eye of one camera with a baseline method (tsai … li, visp).
 /// Returns (X_k, Z_k) or nullopt with the reason in *why.

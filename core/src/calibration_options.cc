@@ -95,6 +95,10 @@ bool CalibrationOptions::Check(std::string* why) const {
   if (refine_intrinsics > kAllIntrinsics) return fail("refine_intrinsics: IntrinsicsGroup flags");
   if (refine_intrinsics != kNoIntrinsics && method != Method::kJoint)
     return fail("intrinsics are refined by the joint method only (--method joint)");
+  if (warn.min_views_per_camera < 0) return fail("warn.min_views_per_camera must be >= 0");
+  for (double v : {warn.min_rotation_spread_deg, warn.min_axis_spread_deg, warn.max_camera_rms_px,
+                   warn.max_closed_form_disagreement_px})
+    if (!std::isfinite(v) || v < 0) return fail("warning thresholds must be finite and >= 0");
   if (!fixed_cameras.empty() && method != Method::kJoint)
     return fail("cameras are held at given poses by the joint method only (--method joint)");
   return true;

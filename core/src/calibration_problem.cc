@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "calibration_internal.h"
+#include "diagnostics_internal.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
 
@@ -116,24 +117,13 @@ void SolvePnp(const Camera& camera, double max_rms_px, View* view) {
   }
 }
 
-struct MotionAxes {
-  std::vector<Eigen::Vector3d> axes;  // unit axes of motions above the angle threshold
-  double largest_deg = 0;
-};
-
-MotionAxes CollectMotions(const Problem& problem, const std::vector<int>& cameras) {
-  MotionAxes motions;
+// The robot motions between the views of each camera, together.
+RobotMotions CollectMotions(const Problem& problem, const std::vector<int>& cameras) {
+  RobotMotions motions;
   for (int k : cameras) {
-    const auto& ids = problem.camera_views[k];
-    for (size_t a = 0; a < ids.size(); ++a)
-      for (size_t b = a + 1; b < ids.size(); ++b) {
-        const Eigen::Matrix3d R = problem.M[problem.views[ids[a]].pose].rotation().transpose() *
-                                  problem.M[problem.views[ids[b]].pose].rotation();
-        const Eigen::Vector3d rv = RotationVectorFromMatrix(R);
-        const double angle = rv.norm();
-        motions.largest_deg = std::max(motions.largest_deg, angle / kDeg);
-        if (angle > 2.0 * kDeg) motions.axes.push_back(rv / angle);
-      }
+    RobotMotions camera = CollectRobotMotions(problem, problem.camera_views[k]);
+    motions.axes.insert(motions.axes.end(), camera.axes.begin(), camera.axes.end());
+    motions.largest_deg = std::max(motions.largest_deg, camera.largest_deg);
   }
   return motions;
 }
@@ -189,7 +179,7 @@ void RecomputePnp(Problem* problem, double max_rms_px) {
 }
 
 std::string MotionDiversityProblem(const Problem& problem, const std::vector<int>& cameras) {
-  const MotionAxes motions = CollectMotions(problem, cameras);
+  const RobotMotions motions = CollectMotions(problem, cameras);
   std::ostringstream why;
   if (motions.axes.empty()) {
     why << "degenerate robot motion: the views differ in rotation by at most " << motions.largest_deg
@@ -265,8 +255,8 @@ Eigen::Isometry3d ConsensusTransform(const std::vector<Eigen::Isometry3d>& estim
 
 }  // namespace
 
-std::optional<Eigen::Isometry3d> CameraFromTarget(const Problem& problem, int camera,
-                                                  const Eigen::Isometry3d& Z) {
+std::optional<Eigen::Isometry3d> CameraGivenTarget(const Problem& problem, int camera,
+                                                   const Eigen::Isometry3d& Z) {
   std::vector<Eigen::Isometry3d> estimates;
   for (int v : problem.camera_views[camera]) {
     const View& view = problem.views[v];
@@ -276,8 +266,8 @@ std::optional<Eigen::Isometry3d> CameraFromTarget(const Problem& problem, int ca
   return ConsensusTransform(estimates);
 }
 
-std::optional<Eigen::Isometry3d> TargetFromCamera(const Problem& problem, int camera,
-                                                  const Eigen::Isometry3d& X) {
+std::optional<Eigen::Isometry3d> TargetGivenCamera(const Problem& problem, int camera,
+                                                   const Eigen::Isometry3d& X) {
   std::vector<Eigen::Isometry3d> estimates;
   for (int v : problem.camera_views[camera]) {
     const View& view = problem.views[v];

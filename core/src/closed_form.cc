@@ -138,11 +138,11 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> VispHandEye(const
     return std::nullopt;
   }
   if (eye_to_hand) {
-    const auto X = CameraFromTarget(problem, camera, *solved);
+    const auto X = CameraGivenTarget(problem, camera, *solved);
     return std::make_pair(*X, *solved);
   }
   const Eigen::Isometry3d X = solved->inverse();
-  return std::make_pair(X, *TargetFromCamera(problem, camera, X));
+  return std::make_pair(X, *TargetGivenCamera(problem, camera, X));
 }
 
 // Both setups map onto OpenCV's eye-in-hand form by passing M⁻¹ as
@@ -172,7 +172,7 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> OpenCvHandEye(
     return std::nullopt;
   }
   const Eigen::Isometry3d X = X_inv->inverse();
-  return std::make_pair(X, *TargetFromCamera(problem, camera, X));
+  return std::make_pair(X, *TargetGivenCamera(problem, camera, X));
 }
 
 // OpenCV's robot-world form cTw · wTb = cTg · gTb with c = target, w = camera,
@@ -348,7 +348,7 @@ Initialisation InitialiseJoint(const Problem& full_problem) {
     Initialisation init;
     init.Z = Z;
     for (size_t k = 0; k < num_cameras; ++k)
-      init.X.push_back(CameraFromTarget(full_problem, static_cast<int>(k), Z));
+      init.X.push_back(CameraGivenTarget(full_problem, static_cast<int>(k), Z));
     const double score = MedianViewRms(full_problem, init.X, Z);
     if (score < best_score) {
       best_score = score;

@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "calibration_internal.h"
+#include "cost_jacobians.h"
 #include "handeye/core/cost_functions.h"
 #include "handeye/core/error.h"
 

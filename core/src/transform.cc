@@ -55,6 +55,22 @@ double RotationDistance(const Eigen::Matrix3d& R_a, const Eigen::Matrix3d& R_b) 
   return RotationAngle(R_a.transpose() * R_b);
 }
 
+Eigen::Vector3d RollPitchYaw(const Eigen::Matrix3d& R) {
+  // atan2 forms throughout: asin(-R20) would lose half the digits near ±90°.
+  const double yaw = std::atan2(R(1, 0), R(0, 0));
+  const double pitch = std::atan2(-R(2, 0), std::hypot(R(0, 0), R(1, 0)));
+  // Roll from what is left once yaw and pitch are undone; near pitch = ±90°
+  // the yaw above is poorly determined and this roll absorbs its error, so
+  // the three angles still rebuild R to rounding.
+  const Eigen::Matrix3d rest = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                                Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()))
+                                   .toRotationMatrix()
+                                   .transpose() *
+                               R;
+  const double roll = std::atan2(rest(2, 1), rest(1, 1));
+  return Eigen::Vector3d(roll, pitch, yaw);
+}
+
 Eigen::Vector3d RotationVectorFromMatrix(const Eigen::Matrix3d& R) {
   const Eigen::AngleAxisd aa(Eigen::Quaterniond(R).normalized());
   double angle = aa.angle();

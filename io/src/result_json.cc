@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "handeye/core/transform.h"
 #include "handeye/io/atomic_file.h"
 #include "handeye/io/json_util.h"
 
@@ -21,13 +22,11 @@ const char* TargetKey(Setup setup) { return setup == Setup::kEyeToHand ? "T_ee_t
 void AddSummary(const Eigen::Isometry3d& T, nlohmann::ordered_json* out) {
   const Eigen::Vector3d t = 1000.0 * T.translation();
   const Eigen::Matrix3d R = T.rotation();
-  const double pitch = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
-  const double roll = std::atan2(R(2, 1), R(2, 2));
-  const double yaw = std::atan2(R(1, 0), R(0, 0));
+  const Eigen::Vector3d rpy = kRadToDeg * RollPitchYaw(R);
   Eigen::Quaterniond q(R);
   if (q.w() < 0) q.coeffs() = -q.coeffs();
   (*out)["translation_mm"] = {t.x(), t.y(), t.z()};
-  (*out)["rpy_deg"] = {roll * kRadToDeg, pitch * kRadToDeg, yaw * kRadToDeg};
+  (*out)["rpy_deg"] = {rpy.x(), rpy.y(), rpy.z()};
   (*out)["quaternion_xyzw"] = {q.x(), q.y(), q.z(), q.w()};
 }
 
@@ -98,6 +97,95 @@ IntrinsicsResult ReadIntrinsicsResult(const JsonReader& cam, const std::string& 
   return out;
 }
 
+// The frame the cameras are fixed to, where AX = ZB says where they sit.
+const char* MountFrame(Setup setup) { return setup == Setup::kEyeToHand ? "base" : "ee"; }
+
+// The diagnostics Calibrate() computed for a camera (handeye/core/diagnostics.h).
+void AddDiagnostics(const CameraResult& cam, Setup setup, nlohmann::ordered_json* c) {
+  (*c)["max_px"] = cam.max_px;
+  (*c)["outliers"] = cam.outliers;
+  (*c)["axzb"] = {{"translation_mm", cam.axzb.camera_frame_mm},
+                  {"frame", MountFrame(setup)},
+                  {"target_frame_translation_mm", cam.axzb.target_frame_mm},
+                  {"rotation_deg", cam.axzb.rotation_deg},
+                  {"views", cam.axzb.views}};
+  (*c)["rotation_spread_deg"] = cam.rotation_spread_deg;
+  (*c)["axis_spread_deg"] = cam.axis_spread_deg;
+  if (!cam.closed_form) return;
+  const ClosedFormComparison& cf = *cam.closed_form;
+  if (cf.available)
+    (*c)["closed_form"] = {{"method", cf.method},
+                           {"translation_mm", cf.translation_mm},
+                           {"rotation_deg", cf.rotation_deg},
+                           {"displacement_px", cf.displacement_px}};
+  else
+    (*c)["closed_form"] = {{"method", cf.method}, {"why_not", cf.why_not}};
+}
+
+void ReadDiagnostics(const JsonReader& c, CameraResult* cam) {
+  if (c.Has("max_px")) cam->max_px = c.Key("max_px").Number();
+  if (c.Has("outliers")) cam->outliers = c.Key("outliers").Int(0);
+  if (c.Has("axzb")) {
+    const JsonReader axzb = c.Key("axzb");
+    cam->axzb.camera_frame_mm = axzb.Key("translation_mm").Number();
+    cam->axzb.target_frame_mm = axzb.Key("target_frame_translation_mm").Number();
+    cam->axzb.rotation_deg = axzb.Key("rotation_deg").Number();
+    cam->axzb.views = axzb.Key("views").Int(0);
+  }
+  if (c.Has("rotation_spread_deg")) cam->rotation_spread_deg = c.Key("rotation_spread_deg").Number();
+  if (c.Has("axis_spread_deg")) cam->axis_spread_deg = c.Key("axis_spread_deg").Number();
+  if (c.Has("closed_form")) {
+    const JsonReader cf = c.Key("closed_form");
+    ClosedFormComparison cmp;
+    cmp.method = cf.Key("method").String();
+    cmp.available = !cf.Has("why_not");
+    if (cmp.available) {
+      cmp.translation_mm = cf.Key("translation_mm").Number();
+      cmp.rotation_deg = cf.Key("rotation_deg").Number();
+      cmp.displacement_px = cf.Key("displacement_px").Number();
+    } else {
+      cmp.why_not = cf.Key("why_not").String();
+    }
+    cam->closed_form = cmp;
+  }
+}
+
+// The options that shaped the result (the method is the file's "method").
+nlohmann::ordered_json OptionsJson(const CalibrationOptions& o) {
+  const QualityThresholds& w = o.warn;
+  return {{"cauchy_scale_px", o.cauchy_scale_px},
+          {"cross_terms", o.cross_terms},
+          {"reject_views", o.reject_views},
+          {"pnp_max_rms_px", o.pnp_max_rms_px},
+          {"robot_sigma_mm", o.robot_sigma_mm},
+          {"robot_sigma_deg", o.robot_sigma_deg},
+          {"refine_intrinsics", o.refine_intrinsics},
+          {"compare_closed_form", o.compare_closed_form},
+          {"warn",
+           {{"min_views_per_camera", w.min_views_per_camera},
+            {"min_rotation_spread_deg", w.min_rotation_spread_deg},
+            {"min_axis_spread_deg", w.min_axis_spread_deg},
+            {"max_camera_rms_px", w.max_camera_rms_px},
+            {"max_closed_form_disagreement_px", w.max_closed_form_disagreement_px}}}};
+}
+
+void ReadOptions(const JsonReader& r, CalibrationOptions* o) {
+  o->cauchy_scale_px = r.Key("cauchy_scale_px").Number();
+  o->cross_terms = ReadBool(r.Key("cross_terms"));
+  o->reject_views = ReadBool(r.Key("reject_views"));
+  o->pnp_max_rms_px = r.Key("pnp_max_rms_px").Number();
+  o->robot_sigma_mm = r.Key("robot_sigma_mm").Number();
+  o->robot_sigma_deg = r.Key("robot_sigma_deg").Number();
+  o->refine_intrinsics = static_cast<unsigned>(r.Key("refine_intrinsics").Int(0, kAllIntrinsics));
+  o->compare_closed_form = ReadBool(r.Key("compare_closed_form"));
+  const JsonReader w = r.Key("warn");
+  o->warn.min_views_per_camera = w.Key("min_views_per_camera").Int(0);
+  o->warn.min_rotation_spread_deg = w.Key("min_rotation_spread_deg").Number();
+  o->warn.min_axis_spread_deg = w.Key("min_axis_spread_deg").Number();
+  o->warn.max_camera_rms_px = w.Key("max_camera_rms_px").Number();
+  o->warn.max_closed_form_disagreement_px = w.Key("max_closed_form_disagreement_px").Number();
+}
+
 }  // namespace
 
 void SaveResult(const CalibrationResult& result, const std::string& path) {
@@ -121,6 +209,7 @@ void SaveResult(const CalibrationResult& result, const std::string& path) {
                                  {"position_spread_mm", cam.cross_validation->position_spread_mm},
                                  {"rotation_spread_deg", cam.cross_validation->rotation_spread_deg}};
       if (cam.intrinsics) AddIntrinsics(*cam.intrinsics, &c);
+      AddDiagnostics(cam, result.setup, &c);
     }
     c["views"] = cam.views;
     c["views_rejected"] = cam.views_rejected;
@@ -142,7 +231,10 @@ void SaveResult(const CalibrationResult& result, const std::string& path) {
   root["camera_pairs"] = pairs;
   root["metrics"] = {{"rms_px", result.metrics.rms_px},
                      {"axzb_translation_mm", result.metrics.axzb_translation_mm},
-                     {"axzb_rotation_deg", result.metrics.axzb_rotation_deg}};
+                     {"axzb_translation_frame", "target"},
+                     {"axzb_rotation_deg", result.metrics.axzb_rotation_deg},
+                     {"axzb_camera_translation_mm", result.metrics.axzb_camera_translation_mm},
+                     {"axzb_camera_frame", MountFrame(result.setup)}};
   root["solver"] = {{"seconds", result.solver.seconds},
                     {"iterations", result.solver.iterations},
                     {"converged", result.solver.converged},
@@ -167,6 +259,8 @@ void SaveResult(const CalibrationResult& result, const std::string& path) {
   root["views"] = views;
   root["warnings"] = result.warnings;
   root["notes"] = result.notes;
+  root["options"] = OptionsJson(result.options);
+  root["provenance"] = {{"handeye_version", result.handeye_version}, {"input", result.input}};
   WriteFileAtomically(path, DumpJson(root));
 }
 
@@ -205,6 +299,7 @@ CalibrationResult LoadResult(const std::string& path) {
         v.rotation_spread_deg = cv.Key("rotation_spread_deg").Number();
         c.cross_validation = v;
       }
+      ReadDiagnostics(cam, &c);
     }
     c.views = cam.Key("views").Int(0);
     c.views_rejected = cam.Key("views_rejected").Int(0);
@@ -229,6 +324,8 @@ CalibrationResult LoadResult(const std::string& path) {
   result.metrics.rms_px = metrics.Key("rms_px").Number();
   result.metrics.axzb_translation_mm = metrics.Key("axzb_translation_mm").Number();
   result.metrics.axzb_rotation_deg = metrics.Key("axzb_rotation_deg").Number();
+  if (metrics.Has("axzb_camera_translation_mm"))
+    result.metrics.axzb_camera_translation_mm = metrics.Key("axzb_camera_translation_mm").Number();
   const JsonReader solver = root.Key("solver");
   result.solver.seconds = solver.Key("seconds").Number();
   result.solver.iterations = solver.Key("iterations").Int(0);
@@ -260,6 +357,13 @@ CalibrationResult LoadResult(const std::string& path) {
     const JsonReader strings = root.Key(key);
     const size_t n = strings.ArraySize("an array of strings");
     for (size_t i = 0; i < n; ++i) list->push_back(strings.At(i).String());
+  }
+  result.options.method = result.method;
+  if (root.Has("options")) ReadOptions(root.Key("options"), &result.options);
+  if (root.Has("provenance")) {
+    const JsonReader provenance = root.Key("provenance");
+    result.handeye_version = provenance.Key("handeye_version").String();
+    result.input = provenance.Key("input").String();
   }
   return result;
 }

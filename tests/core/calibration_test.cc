@@ -20,9 +20,9 @@
 #include "handeye/core/checkerboard.h"
 #include "handeye/core/error.h"
 #include "handeye/core/evaluation.h"
-#include "handeye/core/synthetic.h"
 #include "handeye/core/transform.h"
 #include "handeye/core/uncertainty.h"
+#include "handeye/sim/synthetic.h"
 
 using namespace handeye;
 

@@ -7,9 +7,9 @@
 
 #include "handeye/core/calibration.h"
 #include "handeye/core/checkerboard.h"
-#include "handeye/core/evaluation.h"
 #include "handeye/core/error.h"
-#include "handeye/core/synthetic.h"
+#include "handeye/core/evaluation.h"
+#include "handeye/sim/synthetic.h"
 
 using namespace handeye;
 using Catch::Matchers::Contains;

@@ -9,8 +9,8 @@
 #include "handeye/core/calibration.h"
 #include "handeye/core/checkerboard.h"
 #include "handeye/core/evaluation.h"
-#include "handeye/core/synthetic.h"
 #include "handeye/core/transform.h"
+#include "handeye/sim/synthetic.h"
 
 using namespace handeye;
 using Catch::Matchers::Contains;

@@ -1,9 +1,22 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include <catch2/catch.hpp>
+#include <algorithm>
+#include <cmath>
+#include <random>
 
 #include "handeye/core/transform.h"
 
 using namespace handeye;
+
+namespace {
+
+Eigen::Matrix3d FromRpy(double roll, double pitch, double yaw) {
+  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+}  // namespace
 
 TEST_CASE("Rotation vector round trip, including angles near pi", "[transform]") {
   for (double angle : {0.0, 1e-9, 0.3, 2.0, M_PI - 1e-7, M_PI}) {
@@ -56,4 +69,21 @@ TEST_CASE("RigidFromMatrix checks orthonormality", "[transform]") {
   Eigen::Matrix4d bottom = M;
   bottom(3, 0) = 0.1;
   CHECK_FALSE(RigidFromMatrix(bottom, false, &why));
+}
+
+TEST_CASE("Roll, pitch, yaw rebuild the rotation, also at and near gimbal lock", "[transform]") {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+  double worst = 0;
+  auto check = [&](const Eigen::Matrix3d& R) {
+    const Eigen::Vector3d rpy = RollPitchYaw(R);
+    CHECK(std::abs(rpy.y()) <= M_PI / 2);
+    worst = std::max(worst, (FromRpy(rpy.x(), rpy.y(), rpy.z()) - R).cwiseAbs().maxCoeff());
+  };
+  for (int i = 0; i < 1000; ++i) check(FromRpy(angle(rng), angle(rng) / 2, angle(rng)));
+  for (double pitch : {M_PI / 2, -M_PI / 2})
+    for (double off : {0.0, 1e-4, 1e-7, 1e-9, 1e-12, 1e-15})
+      for (int i = 0; i < 20; ++i) check(FromRpy(angle(rng), pitch - (pitch > 0 ? off : -off), angle(rng)));
+  // A few units of rounding; the parse-back tests need 1e-9.
+  CHECK(worst < 5e-15);
 }

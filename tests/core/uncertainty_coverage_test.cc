@@ -10,7 +10,7 @@
 
 #include "handeye/core/calibration.h"
 #include "handeye/core/checkerboard.h"
-#include "handeye/core/synthetic.h"
+#include "handeye/sim/synthetic.h"
 
 using namespace handeye;
 

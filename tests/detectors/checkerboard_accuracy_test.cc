@@ -10,7 +10,7 @@
 
 #include "board_views.h"
 #include "handeye/detectors/registry.h"
-#include "handeye/io/render.h"
+#include "handeye/sim/render.h"
 
 using namespace handeye;
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The renderer is the ground truth of every detector accuracy figure, so its
 // own conventions and bias are pinned here first.
-#include "handeye/io/render.h"
+#include "handeye/sim/render.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>

@@ -14,7 +14,7 @@
 #include "handeye/core/camera.h"
 #include "handeye/core/target.h"
 #include "handeye/detectors/detector.h"
-#include "handeye/io/render.h"
+#include "handeye/sim/render.h"
 
 namespace handeye::test {
 

@@ -9,7 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "board_views.h"
-#include "handeye/io/render.h"
+#include "handeye/sim/render.h"
 
 using namespace handeye;
 

@@ -140,3 +140,47 @@ TEST_CASE("Broken result files are rejected with file and path", "[result]") {
   expect_error(replace("\"T_ee_target\": [", "\"T_ee_target_x\": ["), "/T_ee_target");
   CHECK_THROWS_AS(LoadResult(dir + "/missing.json"), InputError);
 }
+
+TEST_CASE("Result files keep the diagnostics, the options and where they came from", "[result]") {
+  const std::string dir = test::TempDir("result_diagnostics");
+  CalibrationResult r = SampleResult(Setup::kEyeInHand);
+  CameraResult& cam = r.cameras[0];
+  cam.max_px = 1.25;
+  cam.outliers = 2;
+  cam.axzb = {3.5, 0.75, 0.04, 9};
+  cam.rotation_spread_deg = 41.5;
+  cam.axis_spread_deg = 63.25;
+  cam.closed_form = ClosedFormComparison{"park", true, "", 2.5, 0.125, 0.5};
+  r.cameras[1].closed_form = ClosedFormComparison{"park", false, "park could not calibrate it: too few", 0, 0, 0};
+  r.metrics.axzb_camera_translation_mm = 0.75;
+  r.options.cross_terms = false;
+  r.options.cauchy_scale_px = 2.5;
+  r.options.warn.min_views_per_camera = 6;
+  r.handeye_version = "1.0.0";
+  r.input = "cell/dataset.json";
+  SaveResult(r, dir + "/result.json");
+  const std::string text = test::ReadText(dir + "/result.json");
+  CHECK(text.find("\"axzb_camera_frame\": \"ee\"") != std::string::npos);
+  CHECK(text.find("\"frame\": \"ee\"") != std::string::npos);
+  const CalibrationResult back = LoadResult(dir + "/result.json");
+  const CameraResult& c = back.cameras[0];
+  CHECK(c.max_px == 1.25);
+  CHECK(c.outliers == 2);
+  CHECK(c.axzb.target_frame_mm == 3.5);
+  CHECK(c.axzb.camera_frame_mm == 0.75);
+  CHECK(c.axzb.rotation_deg == 0.04);
+  CHECK(c.axzb.views == 9);
+  CHECK(c.rotation_spread_deg == 41.5);
+  CHECK(c.axis_spread_deg == 63.25);
+  REQUIRE(c.closed_form);
+  CHECK(c.closed_form->available);
+  CHECK(c.closed_form->displacement_px == 0.5);
+  CHECK(back.metrics.axzb_camera_translation_mm == 0.75);
+  CHECK_FALSE(back.cameras[1].closed_form);  // not calibrated: no diagnostics written
+  CHECK_FALSE(back.options.cross_terms);
+  CHECK(back.options.cauchy_scale_px == 2.5);
+  CHECK(back.options.warn.min_views_per_camera == 6);
+  CHECK(back.options.method == Method::kJoint);
+  CHECK(back.handeye_version == "1.0.0");
+  CHECK(back.input == "cell/dataset.json");
+}

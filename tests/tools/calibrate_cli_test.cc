@@ -8,9 +8,9 @@
 #include <cmath>
 
 #include "handeye/core/checkerboard.h"
-#include "handeye/core/synthetic.h"
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/json_util.h"
+#include "handeye/sim/synthetic.h"
 #include "support/test_support.h"
 
 using namespace handeye;

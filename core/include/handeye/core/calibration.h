@@ -50,6 +50,40 @@ enum IntrinsicsGroup : unsigned {
 /// or `all`; nullopt with the reason in *why.
 std::optional<unsigned> ParseIntrinsicsGroups(const std::string& list, std::string* why);
 
+/// When a calibration deserves a warning (Calibrate() adds them to the
+/// result's `warnings`; the report shows them). 0 switches a check off.
+struct QualityThresholds {
+  /// A camera with fewer used views is flagged: hand-eye needs two motions
+  /// with non-parallel axes in theory, but with fewer than about ten poses a
+  /// single bad pose moves the result visibly (Tsai & Lenz 1989 recommend
+  /// well over the minimum).
+  int min_views_per_camera = 10;
+  /// Robot rotation diversity of one camera's views: the largest rotation
+  /// between two of its poses (degrees) below which it is flagged. Tsai and
+  /// Lenz show the translation error grows roughly as 1/(rotation angle)
+  /// between poses; below 20° it is 3× that of a 60° spread.
+  double min_rotation_spread_deg = 20.0;
+  /// The largest angle between the rotation axes of two of its relative
+  /// motions (degrees, axes folded into [0°, 90°]) below which it is flagged:
+  /// the rotation error grows like 1/sin(axis angle), 2× at 30°.
+  double min_axis_spread_deg = 30.0;
+  /// A camera whose RMS reprojection error through the calibrated chain
+  /// exceeds this (pixels) is flagged: corner detectors reach 0.1–0.3 px, so
+  /// more than 1 px means a model, robot or detection problem.
+  double max_camera_rms_px = 1.0;
+  /// Disagreement with the per-camera closed form (CameraResult::closed_form),
+  /// pixels: the mean displacement of the camera's target points (placed by
+  /// the result's chain) when seen from the closed form's camera pose instead
+  /// of the result's. A closed form's error lies mostly along what the images
+  /// barely constrain (the camera turning about the target), so millimetres
+  /// and degrees would flag good results; the displacement is what the data
+  /// can see. In simulated cells with realistic robot noise (0.5–1 mm,
+  /// 0.05–0.1°) it stays below 1 px while the closed form is off by up to
+  /// 9 mm and 0.2°; a wrong solution (another local minimum, a camera moved
+  /// during the session) moves points by tens.
+  double max_closed_form_disagreement_px = 5.0;
+};
+
 /// How Calibrate() solves. Defaults are the paper's method.
 struct CalibrationOptions {
   Method method = Method::kJoint;  ///< SPEC §7 `--method`
@@ -95,6 +129,11 @@ struct CalibrationOptions {
   /// After the solve, check each camera's focal length and principal point
   /// against what its views say, and warn when they disagree (intrinsics not refined).
   bool check_intrinsics = true;
+  /// After the solve, compare each camera with a per-camera closed form
+  /// (Park & Martin; Tsai & Lenz when the method is Park) on the same views.
+  bool compare_closed_form = true;
+  /// When the result is worth a warning.
+  QualityThresholds warn;
 
   /// False, with the reason in `*why`, when a value is out of its domain
   /// (negative scale, non-positive iterations or threads, …). Calibrate() checks them
@@ -142,6 +181,36 @@ struct IntrinsicsResult {
   std::vector<std::string> undetermined;
 };
 
+/// A camera's result against a per-camera closed form on the same views.
+struct ClosedFormComparison {
+  std::string method;         ///< the closed form's `--method` name
+  bool available = false;     ///< false: it could not solve the camera (see why_not)
+  std::string why_not;
+  double translation_mm = 0;  ///< |t| between the two T_cam
+  double rotation_deg = 0;    ///< angle between the two T_cam
+  /// Mean image displacement of the camera's target points (placed by the
+  /// result's chain) seen from the closed form's camera pose instead of the
+  /// result's (see QualityThresholds::max_closed_form_disagreement_px).
+  double displacement_px = 0;
+};
+
+/// The paper's AX = ZB check (eq. real_metrics) over a camera's used views:
+/// A_j = T_target_cam[j] from PnP on view j alone, B_j = M_j⁻¹, X and Z the
+/// solution; means over the views.
+struct AxzbError {
+  /// |t| of A_j·X − Z⁻¹·B_j, both the pose of the camera's mount (base for
+  /// eye_to_hand, ee for eye_in_hand) in the target frame, mm. Measured in the
+  /// target frame it includes the lever arm from the target to the mount's
+  /// origin (a rotation error of 0.1° moves a point 2 m away by 3.5 mm).
+  double target_frame_mm = 0;
+  /// Where view j puts the camera (M_j · Z · A_j) against the solution's
+  /// T_mount_cam, mm, in the frame the camera is fixed to: the figure to
+  /// compare across tools and cells.
+  double camera_frame_mm = 0;
+  double rotation_deg = 0;  ///< the same in either frame
+  int views = 0;            ///< views with a PnP pose that entered the means
+};
+
 /// The calibration of one camera.
 struct CameraResult {
   std::string name;  ///< Camera::name
@@ -153,6 +222,16 @@ struct CameraResult {
   double rms_px = 0;       ///< reprojection RMS over the camera's used views, pixels
   int views = 0;           ///< views used
   int views_rejected = 0;
+  double max_px = 0;       ///< largest point error over its used views, pixels
+  int outliers = 0;        ///< used views down-weighted by the robust loss (ViewResult::outlier)
+  AxzbError axzb;
+  /// Robot rotation diversity of its used views: the largest rotation between
+  /// two of its robot poses, and the largest angle between the axes of two
+  /// relative motions of more than 2° (folded into [0°, 90°]), degrees.
+  double rotation_spread_deg = 0;
+  double axis_spread_deg = 0;
+  /// With CalibrationOptions::compare_closed_form, for a calibrated camera.
+  std::optional<ClosedFormComparison> closed_form;
   /// With intrinsics refinement (or a camera without intrinsics): the result.
   std::optional<IntrinsicsResult> intrinsics;
   /// 1σ of T_cam (joint method; absent when the Jacobian is rank deficient).
@@ -178,8 +257,12 @@ struct CameraPairResult {
 /// Summary errors of a calibration.
 struct CalibrationMetrics {
   double rms_px = 0;               ///< all points of all used views
-  double axzb_translation_mm = 0;  ///< paper eq. (real_metrics), mean over cameras and views
+  /// Paper eq. (real_metrics), mean over cameras and views, in the target
+  /// frame (AxzbError::target_frame_mm).
+  double axzb_translation_mm = 0;
   double axzb_rotation_deg = 0;
+  /// The same views in the frame the cameras are fixed to (AxzbError::camera_frame_mm).
+  double axzb_camera_translation_mm = 0;
 };
 
 /// How the solver ran.
@@ -215,6 +298,13 @@ struct CalibrationResult {
   std::vector<std::string> warnings;
   /// How the solve went (initialisation chosen, …): information, not a problem.
   std::vector<std::string> notes;
+  /// The options the result was computed with (thresholds and loss scale as
+  /// given; SolverSummary has the scale used).
+  CalibrationOptions options;
+  /// Where the result came from: the handeye version that computed it, and
+  /// the input file (set by the program that read it; empty in memory).
+  std::string handeye_version;
+  std::string input;
 };
 
 /// Calibrates from the dataset's observations (detect first for images).

@@ -71,6 +71,31 @@ struct OpenCVCameraModel {
     uv[1] = params[1] * yd + params[3];
     return true;
   }
+
+  /// Project() with the derivative of the pixel with respect to the point
+  /// (2×3), for hand-chained Jacobians (the joint solve's view costs). `params`
+  /// are the intrinsics as ceres::Jet<double, 2> with zero derivative parts:
+  /// only the distortion goes through jets (over the two normalised
+  /// coordinates); the perspective division and the focal length are
+  /// differentiated by hand, which keeps the per-point work small.
+  template <typename Jet2>
+  static bool ProjectWithJacobian(const Jet2* params, const double* p_cam, double* uv,
+                                  Eigen::Matrix<double, 2, 3>* d_uv_d_p_cam) {
+    if (!(p_cam[2] > 0)) return false;
+    const double inv_z = 1.0 / p_cam[2];
+    const double x = p_cam[0] / p_cam[2], y = p_cam[1] / p_cam[2];
+    Jet2 xd, yd;
+    Distort(params, Jet2(x, 0), Jet2(y, 1), &xd, &yd);
+    const double fx = params[0].a, fy = params[1].a;
+    Eigen::Matrix<double, 2, 2> d_uv_d_xy;  // pixels per normalised coordinate
+    d_uv_d_xy << fx * xd.v[0], fx * xd.v[1], fy * yd.v[0], fy * yd.v[1];
+    Eigen::Matrix<double, 2, 3> d_xy_d_p;
+    d_xy_d_p << inv_z, 0.0, -x * inv_z, 0.0, inv_z, -y * inv_z;
+    uv[0] = fx * xd.a + params[2].a;
+    uv[1] = fy * yd.a + params[3].a;
+    d_uv_d_p_cam->noalias() = d_uv_d_xy * d_xy_d_p;
+    return true;
+  }
 };
 
 /// One camera: name, image size and intrinsics in OpenCVCameraModel order.

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
 /// @file
-/// Ceres cost functors of the joint solve (see calibration.h for X, M, Z).
+/// Ceres cost functors of the joint solve (see calibration.h for X, M, Z):
+/// their templated operator() is the reference (autodiff), their Create()
+/// the cost the solver uses, with derivatives by hand (core/src/cost_jacobians.h).
 ///
 /// One residual block per view: the chain of transforms is composed once per
 /// block and then applied to every point of the view, which is several times
@@ -12,6 +14,7 @@
 /// this problem shares.
 
 #include <ceres/autodiff_cost_function.h>
+#include <ceres/cost_function.h>
 
 #include <Eigen/Geometry>
 #include <array>
@@ -42,59 +45,6 @@ void Compose(const T* a, const T* b, T* out) {
   const Eigen::Matrix<T, 3, 1> t_new = qa * tb + ta;
   q = qa * qb;
   t = t_new;
-}
-
-using Matrix7 = Eigen::Matrix<double, 7, 7>;
-
-/// [v]×, the matrix of the cross product v × ·.
-inline Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d S;
-  S << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return S;
-}
-
-/// d(q·v)/d[qx qy qz qw] (3×4) of Eigen's rotation formula
-/// q·v = v + 2w(u×v) + 2u×(u×v), u = (qx, qy, qz), w = qw. Taken off the
-/// unit sphere too (Ceres wants the derivative in all 7 block coordinates),
-/// so it matches autodiff of the same formula, not of R(q/|q|)·v. Linear in v.
-inline Eigen::Matrix<double, 3, 4> RotateJacobianQ(const double* q, const Eigen::Vector3d& v) {
-  const Eigen::Vector3d u(q[0], q[1], q[2]);
-  const double w = q[3];
-  Eigen::Matrix<double, 3, 4> J;
-  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
-  J.leftCols<3>() = -2.0 * w * Skew(v) + 2.0 * (u * v.transpose() + u.dot(v) * I - 2.0 * v * u.transpose());
-  J.col(3) = 2.0 * u.cross(v);
-  return J;
-}
-
-/// d(q·v)/dv (3×3) of the same formula: I + 2w[u]× + 2[u]×².
-inline Eigen::Matrix3d RotateJacobianV(const double* q) {
-  const Eigen::Matrix3d S = Skew(Eigen::Vector3d(q[0], q[1], q[2]));
-  return Eigen::Matrix3d::Identity() + 2.0 * q[3] * S + 2.0 * S * S;
-}
-
-/// Derivatives of Compose(a, b) with respect to a and b (7×7 each; either may be null).
-inline void ComposeJacobians(const double* a, const double* b, Matrix7* d_a, Matrix7* d_b) {
-  const Eigen::Vector3d ua(a[0], a[1], a[2]), ub(b[0], b[1], b[2]);
-  const double wa = a[3], wb = b[3];
-  // qa·qb = (wa·ub + wb·ua + ua×ub, wa·wb − ua·ub) in [x y z w] order.
-  if (d_a) {
-    d_a->setZero();
-    d_a->block<3, 3>(0, 0) = wb * Eigen::Matrix3d::Identity() - Skew(ub);
-    d_a->block<3, 1>(0, 3) = ub;
-    d_a->block<1, 3>(3, 0) = -ub.transpose();
-    (*d_a)(3, 3) = wb;
-    d_a->block<3, 4>(4, 0) = RotateJacobianQ(a, Eigen::Vector3d(b[4], b[5], b[6]));
-    d_a->block<3, 3>(4, 4) = Eigen::Matrix3d::Identity();
-  }
-  if (d_b) {
-    d_b->setZero();
-    d_b->block<3, 3>(0, 0) = wa * Eigen::Matrix3d::Identity() + Skew(ua);
-    d_b->block<3, 1>(0, 3) = ua;
-    d_b->block<1, 3>(3, 0) = -ua.transpose();
-    (*d_b)(3, 3) = wa;
-    d_b->block<3, 3>(4, 4) = RotateJacobianV(a);
-  }
 }
 
 /// Residual of point i through T_cam_target (a pose block), robustified.
@@ -134,189 +84,6 @@ bool ProjectView(const U* intrinsics, const ViewPoints& view, double cauchy_scal
   return true;
 }
 
-/// The per-point Cauchy scaling of ProjectPoint applied to a residual r in
-/// place, with its derivative d(out)/dr; identity when `cauchy_scale_px` <= 0.
-inline Eigen::Matrix2d ApplyCauchy(double cauchy_scale_px, Eigen::Vector2d* r) {
-  if (!(cauchy_scale_px > 0)) return Eigen::Matrix2d::Identity();
-  // out = g(x)·r, g = sqrt(ratio(x)), ratio = log1p(x)/x, x = |r|²/a²; the
-  // same series as ProjectPoint near 0.
-  const double a2 = cauchy_scale_px * cauchy_scale_px;
-  const double xc = r->squaredNorm() / a2;
-  double ratio, d_ratio;
-  if (xc < 1e-8) {
-    ratio = 1.0 - xc / 2.0 + xc * xc / 3.0;
-    d_ratio = -0.5 + 2.0 * xc / 3.0;
-  } else {
-    ratio = std::log1p(xc) / xc;
-    d_ratio = (1.0 / (1.0 + xc) - ratio) / xc;
-  }
-  const double g = std::sqrt(ratio);
-  const double d_g = d_ratio / (2.0 * g);  // dg/dx
-  // d(g·r)/dr = g·I + r · (dg/dx · 2 rᵀ / a²)
-  const Eigen::Matrix2d d_out_d_r = g * Eigen::Matrix2d::Identity() + (2.0 * d_g / a2) * (*r) * r->transpose();
-  *r *= g;
-  return d_out_d_r;
-}
-
-/// The intrinsics as constant jets over the two normalised coordinates.
-using IntrinsicsJet2 = std::array<ceres::Jet<double, 2>, OpenCVCameraModel::kNumParams>;
-
-/// ProjectPoint's residual of one point given in the camera frame, with its
-/// derivative with respect to that point (2×3). Only the distortion goes
-/// through jets (over the two normalised coordinates); the perspective
-/// division and the Cauchy scaling are differentiated by hand, which keeps
-/// the per-point work small: it runs once per point and view of every
-/// Jacobian evaluation of the joint solve.
-inline bool ProjectPointWithJacobian(const IntrinsicsJet2& intrinsics, const double* p_cam,
-                                     const Eigen::Vector2d& observed_px, double cauchy_scale_px,
-                                     double* residual, Eigen::Matrix<double, 2, 3>* d_residual_d_p_cam) {
-  using Jet2 = ceres::Jet<double, 2>;
-  if (!(p_cam[2] > 0)) return false;
-  const double inv_z = 1.0 / p_cam[2];
-  const double x = p_cam[0] / p_cam[2], y = p_cam[1] / p_cam[2];
-  Jet2 xd, yd;
-  OpenCVCameraModel::Distort(intrinsics.data(), Jet2(x, 0), Jet2(y, 1), &xd, &yd);
-  const double fx = intrinsics[0].a, fy = intrinsics[1].a;
-  Eigen::Matrix<double, 2, 2> d_uv_d_xy;  // pixels per normalised coordinate
-  d_uv_d_xy << fx * xd.v[0], fx * xd.v[1], fy * yd.v[0], fy * yd.v[1];
-  Eigen::Matrix<double, 2, 3> d_xy_d_p;
-  d_xy_d_p << inv_z, 0.0, -x * inv_z, 0.0, inv_z, -y * inv_z;
-  Eigen::Vector2d r(fx * xd.a + intrinsics[2].a - observed_px.x(),
-                    fy * yd.a + intrinsics[3].a - observed_px.y());
-  const Eigen::Matrix2d d_out_d_r = ApplyCauchy(cauchy_scale_px, &r);
-  residual[0] = r.x();
-  residual[1] = r.y();
-  d_residual_d_p_cam->noalias() = d_out_d_r * (d_uv_d_xy * d_xy_d_p);
-  return true;
-}
-
-/// Derivative of a residual with respect to the 18 intrinsics (row-major, as
-/// Ceres stores a parameter block's Jacobian).
-using IntrinsicsJacobian = Eigen::Matrix<double, 2, OpenCVCameraModel::kNumParams, Eigen::RowMajor>;
-
-/// The same with the intrinsics as unknowns: also d(residual)/d(intrinsics).
-/// The distortion goes through jets over the two normalised coordinates and
-/// the 14 coefficients; focal length and principal point enter linearly.
-inline bool ProjectPointWithIntrinsicsJacobian(const double* intrinsics, const double* p_cam,
-                                               const Eigen::Vector2d& observed_px, double cauchy_scale_px,
-                                               double* residual, Eigen::Matrix<double, 2, 3>* d_residual_d_p_cam,
-                                               IntrinsicsJacobian* d_residual_d_intrinsics) {
-  constexpr int kDist = OpenCVCameraModel::kNumDistortion;
-  using Jet = ceres::Jet<double, 2 + kDist>;
-  if (!(p_cam[2] > 0)) return false;
-  const double inv_z = 1.0 / p_cam[2];
-  const double x = p_cam[0] / p_cam[2], y = p_cam[1] / p_cam[2];
-  Jet params[OpenCVCameraModel::kNumParams];
-  for (int k = 0; k < 4; ++k) params[k] = Jet(intrinsics[k]);
-  for (int k = 0; k < kDist; ++k) params[4 + k] = Jet(intrinsics[4 + k], 2 + k);
-  Jet xd, yd;
-  OpenCVCameraModel::Distort(params, Jet(x, 0), Jet(y, 1), &xd, &yd);
-  const double fx = intrinsics[0], fy = intrinsics[1];
-  Eigen::Matrix<double, 2, 2> d_uv_d_xy;
-  d_uv_d_xy << fx * xd.v[0], fx * xd.v[1], fy * yd.v[0], fy * yd.v[1];
-  Eigen::Matrix<double, 2, 3> d_xy_d_p;
-  d_xy_d_p << inv_z, 0.0, -x * inv_z, 0.0, inv_z, -y * inv_z;
-  IntrinsicsJacobian d_uv_d_k = IntrinsicsJacobian::Zero();
-  d_uv_d_k(0, 0) = xd.a;
-  d_uv_d_k(1, 1) = yd.a;
-  d_uv_d_k(0, 2) = 1.0;
-  d_uv_d_k(1, 3) = 1.0;
-  for (int k = 0; k < kDist; ++k) {
-    d_uv_d_k(0, 4 + k) = fx * xd.v[2 + k];
-    d_uv_d_k(1, 4 + k) = fy * yd.v[2 + k];
-  }
-  Eigen::Vector2d r(fx * xd.a + intrinsics[2] - observed_px.x(), fy * yd.a + intrinsics[3] - observed_px.y());
-  const Eigen::Matrix2d d_out_d_r = ApplyCauchy(cauchy_scale_px, &r);
-  residual[0] = r.x();
-  residual[1] = r.y();
-  d_residual_d_p_cam->noalias() = d_out_d_r * (d_uv_d_xy * d_xy_d_p);
-  d_residual_d_intrinsics->noalias() = d_out_d_r * d_uv_d_k;
-  return true;
-}
-
-/// A view's cost with derivatives by the chain rule. The composed pose
-/// T_cam_target = Chain(blocks) and its 7×(7·kBlocks) derivative D are
-/// computed once per view (closed form, see ComposeJacobians); since
-/// p_cam = q·p + t is linear in the target point p, its derivative with
-/// respect to every parameter is Σ_m p_m·H_m + H_t with four 3×(7·kBlocks)
-/// matrices per view. Each point then costs its projection, a 2×3 derivative
-/// and two small products. Autodiff over all parameters at every point gives
-/// the same numbers many times slower. `Chain` has a templated
-/// `void operator()(const T* const* blocks, T* T_cam_target) const` and
-/// `void Jacobian(const double* const* blocks, double* T_cam_target,
-/// Eigen::Matrix<double, 7, 7 * kBlocks>* d) const`.
-/// With `free_intrinsics`, the camera's 18 intrinsics are one more parameter
-/// block (the last), in OpenCVCameraModel order.
-/// The view's points are shared, not copied: the joint solve makes one block
-/// per camera pair for each view.
-template <int kBlocks, typename Chain>
-class ChainedViewCost : public ceres::CostFunction {
- public:
-  ChainedViewCost(const Camera& camera, std::shared_ptr<const ViewPoints> points, double cauchy_scale_px,
-                  Chain chain, bool free_intrinsics = false)
-      : intrinsics_(camera.params), view_(std::move(points)), cauchy_scale_px_(cauchy_scale_px), chain_(chain),
-        free_intrinsics_(free_intrinsics) {
-    for (int k = 0; k < OpenCVCameraModel::kNumParams; ++k)
-      intrinsics_jet_[k] = ceres::Jet<double, 2>(intrinsics_[k]);
-    set_num_residuals(2 * static_cast<int>(view_->p_target.size()));
-    for (int b = 0; b < kBlocks; ++b) mutable_parameter_block_sizes()->push_back(7);
-    if (free_intrinsics_) mutable_parameter_block_sizes()->push_back(OpenCVCameraModel::kNumParams);
-  }
-
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    const double* intrinsics = free_intrinsics_ ? parameters[kBlocks] : intrinsics_.data();
-    if (!jacobians) {
-      double pose[7];
-      chain_(parameters, pose);
-      return ProjectView(intrinsics, *view_, cauchy_scale_px_, pose, residuals);
-    }
-    constexpr int kParams = 7 * kBlocks;
-    using Jacobian3 = Eigen::Matrix<double, 3, kParams>;
-    double pose[7];
-    Eigen::Matrix<double, 7, kParams> d_pose;
-    chain_.Jacobian(parameters, pose, &d_pose);
-    // H_m = d(q·e_m)/dq · dq/d(parameters); H_t = dt/d(parameters).
-    Jacobian3 H[3];
-    for (int m = 0; m < 3; ++m)
-      H[m].noalias() = RotateJacobianQ(pose, Eigen::Vector3d::Unit(m)) * d_pose.template topRows<4>();
-    const Jacobian3 H_t = d_pose.template bottomRows<3>();
-
-    using RowMajor2x7 = Eigen::Matrix<double, 2, 7, Eigen::RowMajor>;
-    double* d_intrinsics = free_intrinsics_ ? jacobians[kBlocks] : nullptr;
-    for (size_t i = 0; i < view_->p_target.size(); ++i) {
-      const Eigen::Vector3d& p = view_->p_target[i];
-      double p_cam[3];
-      TransformPoint(pose, p.data(), p_cam);
-      Eigen::Matrix<double, 2, 3> d_r_d_p;
-      if (free_intrinsics_) {
-        IntrinsicsJacobian d_r_d_k;
-        if (!ProjectPointWithIntrinsicsJacobian(intrinsics, p_cam, view_->observed_px[i], cauchy_scale_px_,
-                                                residuals + 2 * i, &d_r_d_p, &d_r_d_k))
-          return false;
-        if (d_intrinsics)
-          Eigen::Map<IntrinsicsJacobian>(d_intrinsics + 2 * OpenCVCameraModel::kNumParams * i) = d_r_d_k;
-      } else if (!ProjectPointWithJacobian(intrinsics_jet_, p_cam, view_->observed_px[i], cauchy_scale_px_,
-                                           residuals + 2 * i, &d_r_d_p)) {
-        return false;
-      }
-      Jacobian3 d_p_d_params = H_t;
-      d_p_d_params.noalias() += p.x() * H[0] + p.y() * H[1] + p.z() * H[2];
-      const Eigen::Matrix<double, 2, kParams> J = d_r_d_p * d_p_d_params;
-      for (int b = 0; b < kBlocks; ++b)
-        if (jacobians[b]) Eigen::Map<RowMajor2x7>(jacobians[b] + 14 * i) = J.template middleCols<7>(7 * b);
-    }
-    return true;
-  }
-
- private:
-  std::array<double, OpenCVCameraModel::kNumParams> intrinsics_;
-  IntrinsicsJet2 intrinsics_jet_;
-  std::shared_ptr<const ViewPoints> view_;
-  double cauchy_scale_px_;
-  Chain chain_;
-  bool free_intrinsics_;
-};
-
 /// X · M · Z: blocks X, Z.
 struct DirectChain {
   PoseParams M;
@@ -326,17 +93,6 @@ struct DirectChain {
     for (int i = 0; i < 7; ++i) M_t[i] = T(M[i]);
     Compose(M_t, blocks[1], MZ);
     Compose(blocks[0], MZ, out);
-  }
-  /// The same pose and its derivative with respect to (X, Z).
-  void Jacobian(const double* const* blocks, double* out, Eigen::Matrix<double, 7, 14>* d_out) const {
-    double MZ[7];
-    Compose(M.data(), blocks[1], MZ);
-    Compose(blocks[0], MZ, out);
-    Matrix7 d_MZ_d_Z, d_out_d_X, d_out_d_MZ;
-    ComposeJacobians(M.data(), blocks[1], nullptr, &d_MZ_d_Z);
-    ComposeJacobians(blocks[0], MZ, &d_out_d_X, &d_out_d_MZ);
-    d_out->leftCols<7>() = d_out_d_X;
-    d_out->rightCols<7>().noalias() = d_out_d_MZ * d_MZ_d_Z;
   }
 };
 
@@ -350,18 +106,6 @@ struct CrossChain {
     DirectChain{M}(direct, XMZ);
     Compose(blocks[0], XMZ, out);
   }
-  /// The same pose and its derivative with respect to (T_camk_camt, X_t, Z).
-  void Jacobian(const double* const* blocks, double* out, Eigen::Matrix<double, 7, 21>* d_out) const {
-    double XMZ[7];
-    Eigen::Matrix<double, 7, 14> d_XMZ;
-    const double* direct[2] = {blocks[1], blocks[2]};
-    DirectChain{M}.Jacobian(direct, XMZ, &d_XMZ);
-    Compose(blocks[0], XMZ, out);
-    Matrix7 d_out_d_T, d_out_d_XMZ;
-    ComposeJacobians(blocks[0], XMZ, &d_out_d_T, &d_out_d_XMZ);
-    d_out->leftCols<7>() = d_out_d_T;
-    d_out->rightCols<14>().noalias() = d_out_d_XMZ * d_XMZ;
-  }
 };
 
 /// X · M · Z with the robot pose M a block too: blocks X, M, Z (the joint
@@ -373,18 +117,6 @@ struct RobotChain {
     Compose(blocks[1], blocks[2], MZ);
     Compose(blocks[0], MZ, out);
   }
-  /// The same pose and its derivative with respect to (X, M, Z).
-  void Jacobian(const double* const* blocks, double* out, Eigen::Matrix<double, 7, 21>* d_out) const {
-    double MZ[7];
-    Compose(blocks[1], blocks[2], MZ);
-    Compose(blocks[0], MZ, out);
-    Matrix7 d_MZ_d_M, d_MZ_d_Z, d_out_d_X, d_out_d_MZ;
-    ComposeJacobians(blocks[1], blocks[2], &d_MZ_d_M, &d_MZ_d_Z);
-    ComposeJacobians(blocks[0], MZ, &d_out_d_X, &d_out_d_MZ);
-    d_out->leftCols<7>() = d_out_d_X;
-    d_out->middleCols<7>(7).noalias() = d_out_d_MZ * d_MZ_d_M;
-    d_out->rightCols<7>().noalias() = d_out_d_MZ * d_MZ_d_Z;
-  }
 };
 
 }  // namespace cost_internal
@@ -394,16 +126,7 @@ struct RobotChain {
 struct ViewReprojectionWithRobotError {
   /// With `free_intrinsics`, a fourth block: the camera's 18 intrinsics.
   static ceres::CostFunction* Create(const Camera& camera, std::shared_ptr<const ViewPoints> points,
-                                     double cauchy_scale_px, bool free_intrinsics = false) {
-    return new cost_internal::ChainedViewCost<3, cost_internal::RobotChain>(camera, std::move(points),
-                                                                             cauchy_scale_px, {}, free_intrinsics);
-  }
-  /// The same cost through ceres::AutoDiffCostFunction (reference for tests).
-  static ceres::CostFunction* CreateAutoDiff(const Camera& camera, ViewPoints points, double cauchy_scale_px) {
-    const int residuals = 2 * static_cast<int>(points.p_target.size());
-    return new ceres::AutoDiffCostFunction<ViewReprojectionWithRobotError, ceres::DYNAMIC, 7, 7, 7>(
-        new ViewReprojectionWithRobotError{camera.params, std::move(points), cauchy_scale_px}, residuals);
-  }
+                                     double cauchy_scale_px, bool free_intrinsics = false);
   template <typename T>
   bool operator()(const T* X, const T* M, const T* Z, T* residuals) const {
     const T* blocks[3] = {X, M, Z};
@@ -488,32 +211,12 @@ struct ViewReprojectionError {
   /// The cost with chain-rule derivatives (same values as autodiff of
   /// operator(), faster). `cauchy_scale_px` <= 0: plain squared error.
   static ceres::CostFunction* Create(const Camera& camera, const Eigen::Isometry3d& M, ViewPoints points,
-                                     double cauchy_scale_px) {
-    return Create(camera, M, std::make_shared<const ViewPoints>(std::move(points)), cauchy_scale_px);
-  }
+                                     double cauchy_scale_px);
   /// The same, sharing the view's points with other blocks (the cross terms of the view).
   /// With `free_intrinsics`, a third block: the camera's 18 intrinsics.
   static ceres::CostFunction* Create(const Camera& camera, const Eigen::Isometry3d& M,
                                      std::shared_ptr<const ViewPoints> points, double cauchy_scale_px,
-                                     bool free_intrinsics = false) {
-    return new cost_internal::ChainedViewCost<2, cost_internal::DirectChain>(
-        camera, std::move(points), cauchy_scale_px, cost_internal::DirectChain{ToPoseParams(M)}, free_intrinsics);
-  }
-  /// The same cost through ceres::AutoDiffCostFunction (reference for tests).
-  static ceres::CostFunction* CreateAutoDiff(const Camera& camera, const Eigen::Isometry3d& M, ViewPoints points,
-                                             double cauchy_scale_px) {
-    const int residuals = 2 * static_cast<int>(points.p_target.size());
-    return new ceres::AutoDiffCostFunction<ViewReprojectionError, ceres::DYNAMIC, 7, 7>(
-        new ViewReprojectionError(camera, M, std::move(points), cauchy_scale_px), residuals);
-  }
-  /// The same with the intrinsics as a third block, through autodiff (reference for tests).
-  static ceres::CostFunction* CreateAutoDiffWithIntrinsics(const Camera& camera, const Eigen::Isometry3d& M,
-                                                           ViewPoints points, double cauchy_scale_px) {
-    const int residuals = 2 * static_cast<int>(points.p_target.size());
-    return new ceres::AutoDiffCostFunction<ViewReprojectionError, ceres::DYNAMIC, 7, 7,
-                                           OpenCVCameraModel::kNumParams>(
-        new ViewReprojectionError(camera, M, std::move(points), cauchy_scale_px), residuals);
-  }
+                                     bool free_intrinsics = false);
 
   std::array<double, OpenCVCameraModel::kNumParams> intrinsics;
   PoseParams M;
@@ -542,18 +245,7 @@ struct ViewCrossReprojectionError {
 
   /// The cost with chain-rule derivatives (see ViewReprojectionError::Create).
   static ceres::CostFunction* Create(const Camera& camera_k, const Eigen::Isometry3d& M, ViewPoints points,
-                                     double cauchy_scale_px) {
-    return new cost_internal::ChainedViewCost<3, cost_internal::CrossChain>(
-        camera_k, std::make_shared<const ViewPoints>(std::move(points)), cauchy_scale_px,
-        cost_internal::CrossChain{ToPoseParams(M)});
-  }
-  /// The same cost through ceres::AutoDiffCostFunction (reference for tests).
-  static ceres::CostFunction* CreateAutoDiff(const Camera& camera_k, const Eigen::Isometry3d& M, ViewPoints points,
-                                             double cauchy_scale_px) {
-    const int residuals = 2 * static_cast<int>(points.p_target.size());
-    return new ceres::AutoDiffCostFunction<ViewCrossReprojectionError, ceres::DYNAMIC, 7, 7, 7>(
-        new ViewCrossReprojectionError(camera_k, M, std::move(points), cauchy_scale_px), residuals);
-  }
+                                     double cauchy_scale_px);
 
   ViewReprojectionError direct;
 };

@@ -43,6 +43,12 @@ double RotationAngle(const Eigen::Matrix3d& R);
 /// Angle (radians) of R_a^T R_b, the rotation between two orientations.
 double RotationDistance(const Eigen::Matrix3d& R_a, const Eigen::Matrix3d& R_b);
 
+/// Fixed-axis roll, pitch, yaw (radians) of a rotation: R = Rz(yaw)·Ry(pitch)·Rx(roll),
+/// pitch in [-π/2, π/2]. Rebuilding R from the angles is accurate to rounding
+/// also at and near pitch = ±π/2, where roll and yaw are not unique. The one
+/// form every summary, report and export uses.
+Eigen::Vector3d RollPitchYaw(const Eigen::Matrix3d& R);
+
 /// Rigid transform from a rotation (unit quaternion, normalised here) and a translation.
 Eigen::Isometry3d MakeTransform(const Eigen::Quaterniond& q, const Eigen::Vector3d& t);
 /// Rigid transform from a rotation vector (radians) and a translation.

@@ -53,6 +53,7 @@
 #include <vector>
 
 #include "handeye/core/calibration.h"
+#include "handeye/core/transform.h"  // RollPitchYaw, which the URDF uses
 
 namespace handeye {
 
@@ -107,10 +108,6 @@ Eigen::Isometry3d OpticalInLink();
 std::vector<StaticTransform> StaticTransformsOf(const CalibrationResult& result, const ExportOptions& options,
                                                 std::vector<std::string>* warnings = nullptr);
 
-/// Fixed-axis roll, pitch, yaw (radians) of a rotation: R = Rz(yaw)·Ry(pitch)·Rx(roll),
-/// pitch in [-π/2, π/2]. Rebuilding R from the angles is accurate to rounding
-/// also at and near pitch = ±π/2, where roll and yaw are not unique.
-Eigen::Vector3d RollPitchYaw(const Eigen::Matrix3d& R);
 
 /// The file content of `result` in `format`. `source` (e.g. the result's
 /// path) is named in the file's header comment.

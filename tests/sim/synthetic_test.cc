@@ -6,8 +6,8 @@
 
 #include "handeye/core/checkerboard.h"
 #include "handeye/core/error.h"
-#include "handeye/core/synthetic.h"
 #include "handeye/core/transform.h"
+#include "handeye/sim/synthetic.h"
 
 using namespace handeye;
 

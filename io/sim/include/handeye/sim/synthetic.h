@@ -2,7 +2,7 @@
 #pragma once
 /// @file
 /// Synthetic workcells with ground truth: camera rings, robot poses and the
-/// true projections of the target, without images (io/render.h draws them).
+/// true projections of the target, without images (render.h draws them).
 /// Used by `handeye simulate`, by solver tests (projected observations) and by
 /// the benchmarks.
 

@@ -70,7 +70,7 @@ cv::Mat Histogram(const ReportModel& model, const CameraModel& cam) {
                ResidualColor(x_max * (b + 0.5) / kBins, model.residual_scale_max_px));
   if (!residuals.empty()) {
     const double y_top = NiceCeil(top * 1.12);
-    const double rms = cam.rms_px;
+    const double rms = cam.result->rms_px;
     plot.DashedLine({rms, 0}, {rms, y_top}, kInk);
     plot.Label({rms, y_top}, "RMS " + Format("%.3f", rms) + " px", kInk, 5, 6, {0, 0}, 11);
     if (beyond > 0)

@@ -30,38 +30,10 @@ struct ReportOptions {
   /// Width of the JPEG thumbnails, pixels.
   int thumbnail_width_px = 320;
 
-  // --- Warning thresholds ----------------------------------------------------
-  /// A camera with fewer used views is flagged: hand-eye needs two motions
-  /// with non-parallel axes in theory, but with fewer than about ten poses a
-  /// single bad pose moves the result visibly (Tsai & Lenz 1989 recommend
-  /// well over the minimum).
-  int min_views_per_camera = 10;
-  /// Robot rotation diversity of one camera's views: the largest rotation
-  /// between two of its poses (degrees) below which it is flagged. Tsai and
-  /// Lenz show the translation error grows roughly as 1/(rotation angle)
-  /// between poses; below 20° it is 3× that of a 60° spread.
-  double min_rotation_spread_deg = 20.0;
-  /// The largest angle between the rotation axes of two of its relative
-  /// motions (degrees, axes folded into [0°, 90°]) below which it is flagged:
-  /// the rotation error grows like 1/sin(axis angle), 2× at 30°.
-  double min_axis_spread_deg = 30.0;
-  /// A camera whose RMS reprojection error through the calibrated chain
-  /// exceeds this (pixels) is flagged: corner detectors reach 0.1–0.3 px, so
-  /// more than 1 px means a model, robot or detection problem.
-  double max_camera_rms_px = 1.0;
-  /// Compare each camera with a per-camera closed form (Park & Martin; ViSP
-  /// when the result itself is Park) and flag disagreement.
+  /// Show the result's comparison of each camera with a per-camera closed
+  /// form (CameraResult::closed_form) in the camera table. The warnings are
+  /// the result's own (CalibrationOptions::warn decides them), all shown.
   bool compare_closed_form = true;
-  /// Disagreement threshold, pixels: the mean displacement of the camera's
-  /// detected target points (placed by the result's chain) when seen from the
-  /// closed form's camera pose instead of the result's. A closed form's error
-  /// lies mostly along what the images barely constrain (the camera turning
-  /// about the target), so millimetres and degrees would flag good results;
-  /// the displacement is what the data can see. In simulated cells with
-  /// realistic robot noise (0.5–1 mm, 0.05–0.1°) it stays below 1 px while
-  /// the closed form is off by up to 9 mm and 0.2°; a wrong solution (another
-  /// local minimum, a camera moved during the session) moves points by tens.
-  double max_closed_form_disagreement_px = 5.0;
 
   /// Shown in the report's header (e.g. the file names the data came from).
   std::string dataset_label, result_label;
@@ -75,7 +47,9 @@ struct ReportOptions {
 struct ReportSummary {
   std::string index_html;             ///< path of DIR/index.html
   int overlays = 0;                   ///< overlay PNGs written
-  std::vector<std::string> warnings;  ///< the report's warnings (also in the HTML)
+  /// The result's warnings (also in the HTML), after any about the result
+  /// not matching the dataset's observations.
+  std::vector<std::string> warnings;
   double seconds = 0;                 ///< wall time
 };
 

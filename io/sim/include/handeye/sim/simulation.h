@@ -7,8 +7,8 @@
 #include <functional>
 #include <string>
 
-#include "handeye/core/synthetic.h"
-#include "handeye/io/render.h"
+#include "handeye/sim/render.h"
+#include "handeye/sim/synthetic.h"
 
 namespace handeye {
 

@@ -3,7 +3,7 @@
 // the camera's own distortion model (Camera::Undistort), so the image agrees
 // with Camera::Project to far below the accuracy a detector can reach. Warping
 // a pinhole image instead would resample it and bias the edges.
-#include "handeye/io/render.h"
+#include "handeye/sim/render.h"
 
 #include <ceres/jet.h>
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
-// Internal pieces of the report writer (io/report.h), shared by its files:
+// Internal pieces of the report writer (report.h), shared by its files:
 // the model (what every view and camera looks like under the result), the
 // overlays, the plots and the HTML.
 
@@ -12,7 +12,7 @@
 
 #include "handeye/core/calibration.h"
 #include "handeye/core/dataset.h"
-#include "handeye/io/report.h"
+#include "handeye/report/report.h"
 
 namespace handeye::report {
 
@@ -37,41 +37,24 @@ struct ViewModel {
   /// Per detected point: its projection through the chain (absent behind the camera).
   std::vector<std::optional<Eigen::Vector2d>> predicted_px;
   std::vector<double> residual_px;  ///< |detected − predicted|, per predicted point
-  double rms_px = 0, max_px = 0;
+  double rms_px = 0, max_px = 0;  ///< the result's (recomputed when it lacks the view)
   bool used = true;      ///< from the result: used by the solver
   bool outlier = false;  ///< from the result: down-weighted by the robust loss
   std::string rejected_because;
   std::vector<CrossPrediction> cross;
-  /// Target pose from the detected points alone (PnP), for AX = ZB.
-  std::optional<Eigen::Isometry3d> T_cam_target_pnp;
 
   /// Folder-safe names, unique per report.
   std::string overlay_path;  ///< relative to the report folder
   std::string thumb_path;
 };
 
-/// The per-camera closed-form comparison.
-struct ClosedFormComparison {
-  bool available = false;
-  std::string why_not;        ///< when not available
-  double translation_mm = 0;  ///< |t_joint − t_closed| of T_base_cam / T_ee_cam
-  double rotation_deg = 0;
-  /// Mean image displacement of the detected points seen from the closed
-  /// form's camera pose instead of the result's (see ReportOptions).
-  double displacement_px = 0;
-};
-
 struct CameraModel {
   const Camera* camera = nullptr;
-  const CameraResult* result = nullptr;  ///< never null after BuildModel
-  std::vector<int> views;                ///< indices into ReportModel::views
-  int used = 0, rejected = 0, outliers = 0;
-  double rms_px = 0, max_px = 0;  ///< over used views, recomputed
-  double axzb_translation_mm = 0, axzb_rotation_deg = 0;
-  int axzb_views = 0;
-  double rotation_spread_deg = 0;  ///< largest rotation between two used poses
-  double axis_spread_deg = 0;      ///< largest angle between relative-motion axes
-  ClosedFormComparison closed_form;
+  /// Never null after BuildModel; its figures (rms_px, max_px, axzb, spreads,
+  /// closed_form) are what the report shows.
+  const CameraResult* result = nullptr;
+  std::vector<int> views;  ///< indices into ReportModel::views
+  int used = 0, rejected = 0;
   std::string folder;  ///< folder-safe name
 };
 
@@ -80,7 +63,7 @@ struct ReportModel {
   const Dataset* dataset = nullptr;  ///< with the intrinsics the result used
   std::vector<Camera> given_cameras;  ///< the dataset's own, before any refinement
   const CalibrationResult* result = nullptr;
-  std::string closed_form_method;  ///< name of the method compared with, "" when not run
+  bool show_closed_form = true;  ///< ReportOptions::compare_closed_form
   std::vector<ViewModel> views;    ///< dataset.observations order
   std::vector<CameraModel> cameras;
   /// Colour scale of residuals (pixels): 0 … residual_scale_max_px, shared by
@@ -89,6 +72,7 @@ struct ReportModel {
   /// 99th percentile of the used views' point residuals (pixels): the range
   /// of the histograms and the magnification of the image-plane plots.
   double residual_p99_px = 0.0;
+  /// The result's warnings, after any about the result not matching the observations.
   std::vector<std::string> warnings;
   std::vector<std::string> notes;
 };
@@ -96,10 +80,6 @@ struct ReportModel {
 /// Builds the model; throws InputError when result and dataset do not match.
 ReportModel BuildModel(const Dataset& dataset, const CalibrationResult& result,
                        const ReportOptions& options);
-
-/// Fixed-axis roll, pitch, yaw (degrees) with R = Rz(yaw)·Ry(pitch)·Rx(roll),
-/// as in handeye-result/1's summaries.
-Eigen::Vector3d RollPitchYawDeg(const Eigen::Matrix3d& R);
 
 /// `name` reduced to [A-Za-z0-9._-] (others become '_'), never empty, never "." or "..".
 std::string SafeFileName(const std::string& name);

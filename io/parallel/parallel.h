@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
 // The one pool of worker threads that detection, rendering and the report
-// share: one image per worker in memory at a time. Internal to the io library.
+// share: one image per worker in memory at a time. Internal (io/parallel/CMakeLists.txt).
 
 #include <cstddef>
 #include <functional>

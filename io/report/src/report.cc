@@ -2,7 +2,7 @@
 // WriteReport(): builds the model, draws the overlays on a pool of workers
 // (one image in memory per worker) while the main thread draws the plots,
 // then writes index.html last.
-#include "handeye/io/report.h"
+#include "handeye/report/report.h"
 
 #include <algorithm>
 #include <chrono>
@@ -47,10 +47,6 @@ bool ReportOptions::Check(std::string* why) const {
   if (threads < 0) return fail("threads must be >= 0 (0 = all cores)");
   if (thumbnail_width_px < 32 || thumbnail_width_px > 4096)
     return fail("thumbnail_width_px must be in [32, 4096]");
-  if (min_views_per_camera < 0) return fail("min_views_per_camera must be >= 0");
-  for (double v : {min_rotation_spread_deg, min_axis_spread_deg, max_camera_rms_px,
-                   max_closed_form_disagreement_px})
-    if (!std::isfinite(v) || v < 0) return fail("warning thresholds must be finite and >= 0");
   return true;
 }
 

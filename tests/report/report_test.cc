@@ -2,18 +2,21 @@
 // The calibration report: files of a rendered 4-camera cell, marks at the
 // right pixels in the overlays (read back from the PNGs), warnings, and
 // results that do not belong to the dataset.
-#include "handeye/io/report.h"
+#include "handeye/report/report.h"
 
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <regex>
 #include <set>
 
 #include "handeye/core/checkerboard.h"
+#include "handeye/core/diagnostics.h"
 #include "handeye/core/error.h"
-#include "handeye/core/synthetic.h"
-#include "handeye/io/simulation.h"
+#include "handeye/io/result_json.h"
+#include "handeye/sim/simulation.h"
+#include "handeye/sim/synthetic.h"
 #include "io/io_fixtures.h"
 #include "support/test_support.h"
 
@@ -174,12 +177,11 @@ TEST_CASE("report of a rendered 4-camera cell: files, links and marks at the rig
   CHECK(worst_cross < 0.2);
 }
 
-TEST_CASE("report warns about a camera whose result disagrees with its closed form", "[report]") {
+TEST_CASE("report shows the warnings of a camera whose result disagrees with its closed form", "[report]") {
   const std::string dir = test::TempDir("report_warnings");
   Cell cell = MakeCell(Setup::kEyeToHand, 12, "");
   ReportOptions options;
   options.threads = 1;
-  options.min_views_per_camera = 0;
   {
     const ReportSummary good = WriteReport(cell.scene.dataset, cell.result, dir + "/good", options);
     for (const auto& w : good.warnings) {
@@ -189,9 +191,12 @@ TEST_CASE("report warns about a camera whose result disagrees with its closed fo
     }
   }
   // Move cam2 by 8 cm: its reprojection error and its distance to the closed
-  // form (which does not know about the change) both become large.
+  // form (which does not know about the change) both become large. The
+  // diagnostics are the core's (Diagnose); the report shows what they say.
   cell.result.cameras[2].T_cam.translation() += Eigen::Vector3d(0.08, 0, 0);
+  cell.result.warnings = Diagnose(cell.scene.dataset, CalibrationOptions{}, &cell.result);
   const ReportSummary bad = WriteReport(cell.scene.dataset, cell.result, dir + "/bad", options);
+  CHECK(bad.warnings == cell.result.warnings);
   std::string all;
   for (const auto& w : bad.warnings) all += w + "\n";
   INFO(all);
@@ -201,8 +206,35 @@ TEST_CASE("report warns about a camera whose result disagrees with its closed fo
   CHECK_THAT(test::ReadText(dir + "/bad/index.html"), Contains("disagree"));
 }
 
+TEST_CASE("report's warnings are result.json's, on a cell that triggers several", "[report]") {
+  const std::string dir = test::TempDir("report_same_warnings");
+  const Cell cell = MakeCell(Setup::kEyeToHand, 8, "");
+  CalibrationOptions strict;
+  strict.warn.max_camera_rms_px = 0.01;  // 0.1 px noise: every camera is "large"
+  const CalibrationResult result = Calibrate(cell.scene.dataset, strict);
+  SaveResult(result, dir + "/result.json");
+  const nlohmann::json json = nlohmann::json::parse(test::ReadText(dir + "/result.json"));
+  const std::vector<std::string> written = json["warnings"];
+  int few_views = 0, large = 0;
+  for (const auto& w : written) {
+    few_views += w.find("few views") != std::string::npos ? 1 : 0;
+    large += w.find("large residuals") != std::string::npos ? 1 : 0;
+  }
+  CHECK(few_views >= 2);
+  CHECK(large >= 2);
+  ReportOptions options;
+  options.threads = 1;
+  const ReportSummary summary = WriteReport(cell.scene.dataset, LoadResult(dir + "/result.json"), dir, options);
+  CHECK(summary.warnings == written);
+  // The figures are the result's, not recomputed: a changed one is shown as it is.
+  CalibrationResult marked = result;
+  REQUIRE(marked.cameras[0].closed_form);
+  marked.cameras[0].closed_form->displacement_px = 123.456;
+  WriteReport(cell.scene.dataset, marked, dir + "/marked", options);
+  CHECK_THAT(test::ReadText(dir + "/marked/index.html"), Contains("123.46"));
+}
+
 TEST_CASE("report rotation-diversity warning follows the camera's robot motions", "[report]") {
-  const std::string dir = test::TempDir("report_diversity");
   const Cell cell = MakeCell(Setup::kEyeToHand, 12, "");
   const Dataset& dataset = cell.scene.dataset;
   // cam0's largest rotation between two of its poses, computed here.
@@ -216,13 +248,13 @@ TEST_CASE("report rotation-diversity warning follows the camera's robot motions"
                                                          dataset.poses[b].T_base_ee.rotation()) *
                                             180.0 / M_PI);
   REQUIRE(spread_deg > 1);
-  ReportOptions options;
-  options.threads = 1;
+  CalibrationOptions options;
   options.compare_closed_form = false;
-  options.min_axis_spread_deg = 0;
+  options.warn.min_axis_spread_deg = 0;
   auto has_warning = [&](double threshold) {
-    options.min_rotation_spread_deg = threshold;
-    for (const auto& w : WriteReport(dataset, cell.result, dir, options).warnings)
+    options.warn.min_rotation_spread_deg = threshold;
+    CalibrationResult result = cell.result;
+    for (const auto& w : Diagnose(dataset, options, &result))
       if (w.rfind("camera 'cam0': poor rotation diversity", 0) == 0) return true;
     return false;
   };

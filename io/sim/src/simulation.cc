@@ -5,7 +5,7 @@
 // from the render seed and the view, so the output does not depend on the
 // number of threads.
 
-#include "handeye/io/simulation.h"
+#include "handeye/sim/simulation.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "handeye/core/error.h"
-#include "handeye/io/dataset_json.h"
 #include "handeye/detectors/registry.h"
+#include "handeye/io/dataset_json.h"
 #include "handeye/io/image.h"
 #include "parallel.h"
 

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+// The diagnostics of a solution (diagnostics.cc): the figures and warnings
+// that Calibrate() writes into the result and the report only shows.
+
+#include <string>
+#include <vector>
+
+#include "calibration_internal.h"
+
+namespace handeye::internal {
+
+/// Relative robot rotations of more than this many degrees have an axis the
+/// diversity checks use; below it the axis is noise-dominated.
+constexpr double kMotionAxisMinDeg = 2.0;
+
+/// The robot rotations between every two of the given views (indices into
+/// problem.views): their unit axes (rotations above kMotionAxisMinDeg) and
+/// the largest angle.
+struct RobotMotions {
+  std::vector<Eigen::Vector3d> axes;
+  double largest_deg = 0;
+};
+RobotMotions CollectRobotMotions(const Problem& problem, const std::vector<int>& views);
+
+/// The largest angle (degrees) between two of the axes, folded into [0°, 90°];
+/// of at most ~1500 of them, evenly spaced, when there are more.
+double AxisSpreadDeg(const std::vector<Eigen::Vector3d>& axes);
+
+/// The paper's AX = ZB figures of one view (see AxzbError), in metres and radians.
+struct AxzbOfView {
+  double target_frame_m = 0;
+  double camera_frame_m = 0;
+  double rotation_rad = 0;
+};
+/// For camera pose X, robot pose M and target pose Z of calibration.h's chain,
+/// and the view's PnP pose T_cam_target.
+AxzbOfView Axzb(const Eigen::Isometry3d& T_cam_target_pnp, const Eigen::Isometry3d& X,
+                const Eigen::Isometry3d& M, const Eigen::Isometry3d& Z);
+
+/// Per view and per camera residuals, AX = ZB, motion diversity and (with
+/// options.compare_closed_form) the closed-form comparison of the solution
+/// (X, Z), written into `result`, whose views (in problem.views order) and
+/// cameras exist already; the metrics too. Returns the warnings the
+/// thresholds in options.warn call for.
+std::vector<std::string> DiagnoseSolution(const Problem& problem,
+                                          const std::vector<std::optional<Eigen::Isometry3d>>& X,
+                                          const TargetPoses& Z, const CalibrationOptions& options,
+                                          CalibrationResult* result);
+
+}  // namespace handeye::internal

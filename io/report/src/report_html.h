@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+// Pieces of the report's HTML (report_html.cc writes the page,
+// report_tables.cc the tables of poses, quality, uncertainty and pairs).
+
+#include <Eigen/Geometry>
+#include <sstream>
+#include <string>
+
+#include "report_internal.h"
+
+namespace handeye::report {
+
+/// Text with &, <, >, " and ' escaped for HTML.
+std::string Escape(const std::string& text);
+/// A number with `decimals` decimals, never "-0.00".
+std::string Num(double value, int decimals);
+/// "x, y, z" with `decimals` decimals.
+std::string Triple(const Eigen::Vector3d& v, int decimals);
+/// "x, y, z, w" of a rotation's quaternion (w ≥ 0).
+std::string Quaternion(const Eigen::Matrix3d& R);
+/// A coloured square in the camera's colour.
+std::string Swatch(int camera);
+
+/// The tables of the page: camera poses and quality, uncertainty, refined
+/// intrinsics, the shared transform and camera pairs.
+void CameraTables(const ReportModel& model, std::ostringstream& out);
+void UncertaintyTable(const ReportModel& model, std::ostringstream& out);
+void IntrinsicsTable(const ReportModel& model, std::ostringstream& out);
+void SharedAndPairs(const ReportModel& model, std::ostringstream& out);
+
+}  // namespace handeye::report

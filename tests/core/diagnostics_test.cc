@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// The diagnostics of a calibration (handeye/core/diagnostics.h): AX = ZB in
+// the frames it is stated in, warnings computed once and stored in the
+// result, and figures a closed form cannot have.
+#include "handeye/core/diagnostics.h"
+
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "handeye/core/checkerboard.h"
+#include "handeye/core/evaluation.h"
+#include "handeye/sim/synthetic.h"
+
+using namespace handeye;
+
+namespace {
+
+// The report tests' small cell: 4 cameras, 960 × 540.
+SyntheticScene Scene(const std::string& cell, int poses, double noise_px) {
+  SceneOptions options;
+  options.cell = cell;
+  options.num_cameras = 4;
+  options.num_poses = poses;
+  options.seed = 11;
+  options.width = 960;
+  options.height = 540;
+  SyntheticScene scene = MakeScene(options, std::make_shared<const CheckerboardTarget>(7, 4, 0.04));
+  std::mt19937_64 rng(5);
+  AddProjectedObservations(&scene, noise_px, &rng);
+  return scene;
+}
+
+}  // namespace
+
+TEST_CASE("AX=ZB in the cameras' frame leaves out the target frame's lever arm", "[diagnostics]") {
+  const SyntheticScene scene = Scene("small", 20, 0.0);
+  CalibrationResult result = TruthAsResult(scene.dataset, scene.truth);
+  // cam0 turned by 0.2° about its own centre: where it sits is still right.
+  Eigen::Isometry3d& T_base_cam0 = result.cameras[0].T_cam;
+  T_base_cam0.linear() = T_base_cam0.linear() * Eigen::AngleAxisd(0.2 * M_PI / 180, Eigen::Vector3d::UnitX()).matrix();
+  CalibrationOptions options;
+  options.compare_closed_form = false;
+  Diagnose(scene.dataset, options, &result);
+  const AxzbError& turned = result.cameras[0].axzb;
+  REQUIRE(turned.views >= 4);
+  CHECK(turned.camera_frame_mm < 0.01);
+  CHECK(turned.rotation_deg == Approx(0.2).epsilon(0.01));
+  // The base origin seen from the target moves by the turn times its distance
+  // from the camera (metres away in this cell).
+  const double lever_m = T_base_cam0.translation().norm();
+  CHECK(turned.target_frame_mm == Approx(1000 * lever_m * 0.2 * M_PI / 180).epsilon(0.1));
+  for (size_t k = 1; k < result.cameras.size(); ++k) {
+    CHECK(result.cameras[k].axzb.camera_frame_mm < 0.01);
+    CHECK(result.cameras[k].axzb.target_frame_mm < 0.01);
+  }
+  CHECK(result.metrics.axzb_camera_translation_mm < result.metrics.axzb_translation_mm);
+}
+
+TEST_CASE("Calibrate stores each warning once, the options and the version", "[diagnostics]") {
+  const SyntheticScene scene = Scene("small", 8, 0.1);
+  const CalibrationResult result = Calibrate(scene.dataset, CalibrationOptions{});
+  CHECK(!result.handeye_version.empty());
+  CHECK(result.options.cross_terms);
+  CHECK(result.options.method == Method::kJoint);
+  CalibrationResult again = result;
+  const std::vector<std::string> quality = Diagnose(scene.dataset, result.options, &again);
+  REQUIRE(quality.size() >= 2);  // 8 poses: cameras with few views
+  for (const std::string& warning : quality) {
+    INFO(warning);
+    CHECK(std::count(result.warnings.begin(), result.warnings.end(), warning) == 1);
+  }
+  for (size_t k = 0; k < result.cameras.size(); ++k) {
+    const CameraResult& cam = result.cameras[k];
+    if (!cam.calibrated) continue;
+    CHECK(cam.max_px >= cam.rms_px);
+    CHECK(cam.rotation_spread_deg > 10);
+    REQUIRE(cam.closed_form);
+    CHECK(cam.closed_form->method == "park");
+    CHECK(again.cameras[k].rms_px == Approx(cam.rms_px).margin(1e-9));
+  }
+}
+
+TEST_CASE("A closed form down-weights no view as an outlier", "[diagnostics]") {
+  const SyntheticScene scene = Scene("small", 12, 0.2);
+  CalibrationOptions options;
+  options.method = Method::kTsai;
+  const CalibrationResult result = Calibrate(scene.dataset, options);
+  for (const ViewResult& view : result.views) CHECK_FALSE(view.outlier);
+  for (const std::string& warning : result.warnings) CHECK(warning.find("outliers") == std::string::npos);
+  // Its comparison is with Park's closed form; Park's own with Tsai's.
+  auto compared_with = [](const CalibrationResult& r) {
+    std::string method;
+    for (const CameraResult& cam : r.cameras)
+      if (cam.closed_form) method = cam.closed_form->method;
+    return method;
+  };
+  CHECK(compared_with(result) == "park");
+  options.method = Method::kPark;
+  CHECK(compared_with(Calibrate(scene.dataset, options)) == "tsai");
+}
