@@ -58,6 +58,12 @@ constexpr double kMinSidePx = 15.0;
 /// one detection pass each (see DetectRawTags).
 constexpr double kGammas[] = {0.25, 0.1};
 
+/// The first stage (see DetectRawTags) runs on images at least this large
+/// (shorter side, px): smaller ones cost little to search whole.
+constexpr int kMinFirstStageSide = 480;
+/// ... and looks for quads at 1/2 resolution.
+constexpr float kFirstStageDecimation = 2.0f;
+
 }  // namespace
 
 std::vector<std::string> AprilTagFamilyNames() { return {"tag36h11"}; }
@@ -221,13 +227,35 @@ std::vector<AprilGridDetector::RawTag> AprilGridDetector::DetectRawTags(const cv
   // 0.1 the most large, strongly foreshortened ones; the union of both
   // passes is kept.
   std::unique_ptr<Engine> engine = Borrow();
-  std::vector<RawTag> tags;
-  for (const double gamma : kGammas) {
+  auto brighten = [&gray](double gamma) {
     cv::Mat lut(1, 256, CV_8U);
     for (int i = 0; i < 256; ++i)
       lut.at<std::uint8_t>(i) = cv::saturate_cast<std::uint8_t>(255.0 * std::pow(i / 255.0, gamma));
     cv::Mat brightened;
     cv::LUT(gray, lut, brightened);
+    return brightened;
+  };
+  // The first stage: quads looked for at half resolution (the library's
+  // quad_decimate; it still decodes at full resolution). Without one tag of
+  // the grid there, the image is given up before the two full passes.
+  if (options_.first_stage && std::min(gray.cols, gray.rows) >= kMinFirstStageSide) {
+    cv::Mat brightened = brighten(kGammas[0]);
+    image_u8_t image{brightened.cols, brightened.rows,
+                     static_cast<std::int32_t>(brightened.step[0]),
+                     brightened.ptr<std::uint8_t>(0)};
+    engine->detector->quad_decimate = kFirstStageDecimation;
+    zarray_t* detections = apriltag_detector_detect(engine->detector, &image);
+    engine->detector->quad_decimate = 1.0f;
+    const bool any = zarray_size(detections) > 0;
+    apriltag_detections_destroy(detections);
+    if (!any) {
+      Return(std::move(engine));
+      return {};
+    }
+  }
+  std::vector<RawTag> tags;
+  for (const double gamma : kGammas) {
+    cv::Mat brightened = brighten(gamma);
     // The library only reads the image (quad_sigma = 0, no decimation).
     image_u8_t image{brightened.cols, brightened.rows,
                      static_cast<std::int32_t>(brightened.step[0]),

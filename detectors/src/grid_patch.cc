@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
+#include <optional>
 #include <utility>
 
 namespace handeye::internal {
@@ -60,9 +62,12 @@ class PointIndex {
 /// seen in perspective changes the junctions' angles little from one corner
 /// to the next.
 double HessianCosine(const SaddlePoint& a, const SaddlePoint& b) {
-  const double ab = static_cast<double>(a.dxx) * b.dxx + 2.0 * a.dxy * b.dxy + static_cast<double>(a.dyy) * b.dyy;
-  const double aa = static_cast<double>(a.dxx) * a.dxx + 2.0 * a.dxy * a.dxy + static_cast<double>(a.dyy) * a.dyy;
-  const double bb = static_cast<double>(b.dxx) * b.dxx + 2.0 * b.dxy * b.dxy + static_cast<double>(b.dyy) * b.dyy;
+  const double ab =
+      static_cast<double>(a.dxx) * b.dxx + 2.0 * a.dxy * b.dxy + static_cast<double>(a.dyy) * b.dyy;
+  const double aa =
+      static_cast<double>(a.dxx) * a.dxx + 2.0 * a.dxy * a.dxy + static_cast<double>(a.dyy) * a.dyy;
+  const double bb =
+      static_cast<double>(b.dxx) * b.dxx + 2.0 * b.dxy * b.dxy + static_cast<double>(b.dyy) * b.dyy;
   return ab / std::sqrt(aa * bb + 1e-30);
 }
 
@@ -81,27 +86,40 @@ bool IsXJunction(const SaddlePoint& s, double min_ratio) {
 
 }  // namespace
 
-bool HasGridPatch(const std::vector<SaddlePoint>& all_saddles, const GridPatchOptions& options) {
+std::vector<GridPatch> FindGridPatches(const std::vector<SaddlePoint>& all_saddles,
+                                       const GridPatchOptions& options, std::size_t max_patches) {
+  std::vector<GridPatch> patches;
   std::vector<SaddlePoint> saddles;
   for (const SaddlePoint& s : all_saddles)
     if (IsXJunction(s, options.min_eigen_ratio)) saddles.push_back(s);
-  if (saddles.size() < 6) return false;
+  if (saddles.size() < 6 || max_patches == 0) return patches;
   constexpr int kCellPx = 8;
   const PointIndex index(saddles, kCellPx);
   const double min_step2 = options.min_step_px * options.min_step_px;
 
-  // A saddle point within `radius` of `c` whose Hessian has the sign `sign`
-  // relative to `p`'s (+1 same, -1 opposite).
-  auto any_near = [&](const cv::Point2d& c, double radius, const SaddlePoint& p, int sign) {
-    bool found = false;
-    index.ForEachWithin(c, radius, [&](int i, double) {
-      found = found || sign * HessianCosine(p, saddles[i]) >= options.min_cosine;
+  // The saddle point nearest to `c`, within `radius`, whose Hessian has the
+  // sign `sign` relative to `p`'s (+1 same, -1 opposite) and that is not one
+  // of `taken`; -1 if none.
+  auto nearest = [&](const cv::Point2d& c, double radius, const SaddlePoint& p, int sign,
+                     std::initializer_list<int> taken) {
+    int best = -1;
+    double best_d2 = radius * radius;
+    index.ForEachWithin(c, radius, [&](int j, double d2) {
+      if (d2 > best_d2 || std::find(taken.begin(), taken.end(), j) != taken.end()) return;
+      if (sign * HessianCosine(p, saddles[j]) >= options.min_cosine) best = j, best_d2 = d2;
     });
-    return found;
+    return best;
+  };
+  auto patch_of = [&](std::initializer_list<int> corners, double u_len, double v_len) {
+    GridPatch patch;
+    for (const int k : corners) patch.corners.push_back(saddles[k].pixel);
+    patch.step_px = std::max(u_len, v_len);
+    return patch;
   };
 
+  // The first patch centred on saddle point i, if any.
   std::vector<std::pair<double, int>> near;
-  for (int i = 0; i < static_cast<int>(saddles.size()); ++i) {
+  auto patch_at = [&](int i) -> std::optional<GridPatch> {
     const SaddlePoint& p = saddles[i];
     // p's nearest points: a radius doubled until it holds enough of them.
     for (double radius = 4.0 * kCellPx;; radius *= 2) {
@@ -116,23 +134,13 @@ bool HasGridPatch(const std::vector<SaddlePoint>& all_saddles, const GridPatchOp
     std::partial_sort(near.begin(), near.begin() + keep, near.end());
     near.resize(keep);
 
-    for (const auto& neighbour : near) {
-      // Named, not a structured binding: a lambda below uses q, and C++17
-      // does not let lambdas capture bindings (clang refuses; g++ allows).
-      const double du2 = neighbour.first;
-      const int q = neighbour.second;
+    for (const auto& [du2, q] : near) {
       // p + u: a neighbour along one grid line, so of opposite sign...
       if (!(-HessianCosine(p, saddles[q]) >= options.min_cosine)) continue;
       const cv::Point2d u = At(saddles[q]) - At(p);
       const double u_len = std::sqrt(du2);
       // ... and p - u on the other side.
-      const cv::Point2d back_c = At(p) - u;
-      const double tol_u = options.tolerance * u_len + options.slack_px;
-      int back = -1;
-      double back_d2 = tol_u * tol_u;
-      index.ForEachWithin(back_c, tol_u, [&](int j, double d2) {
-        if (d2 <= back_d2 && -HessianCosine(p, saddles[j]) >= options.min_cosine) back = j, back_d2 = d2;
-      });
+      const int back = nearest(At(p) - u, options.tolerance * u_len + options.slack_px, p, -1, {});
       if (back < 0) continue;
       for (const auto& [dv2, s] : near) {
         // p + v: a neighbour along the other grid line.
@@ -142,25 +150,32 @@ bool HasGridPatch(const std::vector<SaddlePoint>& all_saddles, const GridPatchOp
         if (std::abs(u.x * v.y - u.y * v.x) < options.min_sine * u_len * v_len) continue;
         // The diagonal neighbours p ± u + v have p's sign.
         const double tol = options.tolerance * std::min(u_len, v_len) + options.slack_px;
-        if (!any_near(At(saddles[q]) + v, tol, p, +1) || !any_near(At(saddles[back]) + v, tol, p, +1))
-          continue;
-        if (options.rows == 2) return true;
+        const int q_v = nearest(At(saddles[q]) + v, tol, p, +1, {});
+        if (q_v < 0) continue;
+        const int back_v = nearest(At(saddles[back]) + v, tol, p, +1, {});
+        if (back_v < 0) continue;
+        if (options.rows == 2) return patch_of({back, i, q, back_v, s, q_v}, u_len, v_len);
         // Three rows: p - v, of the other sign, and p ± u - v, of p's.
-        const double tol_v = options.tolerance * v_len + options.slack_px;
-        int below = -1;
-        double below_d2 = tol_v * tol_v;
-        index.ForEachWithin(At(p) - v, tol_v, [&](int j, double d2) {
-          if (d2 <= below_d2 && j != q && j != back && -HessianCosine(p, saddles[j]) >= options.min_cosine)
-            below = j, below_d2 = d2;
-        });
+        const int below =
+            nearest(At(p) - v, options.tolerance * v_len + options.slack_px, p, -1, {q, back});
         if (below < 0) continue;
         const cv::Point2d w = At(saddles[below]) - At(p);
-        if (any_near(At(saddles[q]) + w, tol, p, +1) && any_near(At(saddles[back]) + w, tol, p, +1))
-          return true;
+        const int q_w = nearest(At(saddles[q]) + w, tol, p, +1, {});
+        const int back_w = q_w < 0 ? -1 : nearest(At(saddles[back]) + w, tol, p, +1, {});
+        if (back_w >= 0)
+          return patch_of({back_w, below, q_w, back, i, q, back_v, s, q_v}, u_len, v_len);
       }
     }
-  }
-  return false;
+    return std::nullopt;
+  };
+
+  for (int i = 0; i < static_cast<int>(saddles.size()) && patches.size() < max_patches; ++i)
+    if (auto patch = patch_at(i)) patches.push_back(std::move(*patch));
+  return patches;
+}
+
+bool HasGridPatch(const std::vector<SaddlePoint>& saddles, const GridPatchOptions& options) {
+  return !FindGridPatches(saddles, options, 1).empty();
 }
 
 }  // namespace handeye::internal

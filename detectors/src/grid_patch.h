@@ -4,6 +4,8 @@
 // cheap test that lets the checkerboard detector give up on an image without
 // running OpenCV's search on it. Internal to the detectors library.
 
+#include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "saddle_regions.h"
@@ -48,13 +50,27 @@ struct GridPatchOptions {
   double min_eigen_ratio = 0.3;
 };
 
-/// True when `saddles` hold a 3 x `options.rows` patch of a checkerboard's
-/// inner corners: p - u, p, p + u, the same three moved by v (and by -v for
-/// three rows), where p + u and p + v are among p's nearest saddle points,
-/// the others lie where the steps u and v predict, and the Hessians alternate
-/// in sign between neighbours as the squares' colours do (SaddlePoint). Every
-/// board with enough inner corners, found as saddle points, holds one;
-/// clutter seldom does.
+/// A 3 x 3 (or 3 x 2) patch of corner grid found among saddle points.
+struct GridPatch {
+  /// Its corners (pixels of the image searched), row by row.
+  std::vector<cv::Point> corners;
+  /// Length of its longer step between neighbouring corners (px).
+  double step_px = 0;
+};
+
+/// The patches of a checkerboard's inner corners among `saddles`, at most
+/// one centred on each saddle point and at most `max_patches`: p - u, p,
+/// p + u, the same three moved by v (and by -v for three rows), where p + u
+/// and p + v are among p's nearest saddle points, the others lie where the
+/// steps u and v predict, and the Hessians alternate in sign between
+/// neighbours as the squares' colours do (SaddlePoint). Every board with
+/// enough inner corners, found as saddle points, holds one; clutter seldom
+/// does.
+std::vector<GridPatch> FindGridPatches(const std::vector<SaddlePoint>& saddles,
+                                       const GridPatchOptions& options,
+                                       std::size_t max_patches = SIZE_MAX);
+
+/// True when `saddles` hold a 3 x `options.rows` patch (FindGridPatches).
 bool HasGridPatch(const std::vector<SaddlePoint>& saddles, const GridPatchOptions& options);
 
 }  // namespace handeye::internal

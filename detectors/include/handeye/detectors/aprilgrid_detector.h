@@ -43,6 +43,11 @@ class AprilGridDetector : public Detector {
     double min_border_px = 4.0;
     /// Bit errors the decoder may correct (tag36h11 codes differ in ≥ 11).
     int max_bits_corrected = 2;
+    /// Give an image of 480 px a side or more up when one pass that looks
+    /// for quads at half resolution finds no tag of the grid, before the
+    /// two full-resolution passes (the cheap first stage for images
+    /// without the grid). Off only to compare against in tests.
+    bool first_stage = true;
 
     bool Check(std::string* why) const;
     /// Defaults overridden by the target object's `min_corners`, `min_border_px`.

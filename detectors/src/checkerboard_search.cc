@@ -1,0 +1,365 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "checkerboard_search.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <numeric>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <utility>
+#include <vector>
+
+#include "grid_patch.h"
+#include "saddle_regions.h"
+
+namespace handeye::internal {
+namespace {
+
+/// Integer factors of the image pyramid searched, coarsest first. The sector
+/// detector's cost grows with the pixels it looks at (about 25, 70 and 285 ms
+/// of CPU for one 1920x1080 image at 1/4, 1/2 and full resolution), and it
+/// finds squares from about 8 px up, so most boards of 30 px squares and more
+/// are found at 1/4; the finer levels are for smaller squares and for boards
+/// the coarser levels missed. (On METRIC's synthetic cell, 368 views of 30-40
+/// px squares, 1/4 alone found 269 boards, 1/2 alone 322; a 1/3 level between
+/// them saved no time overall.)
+constexpr int kFactors[] = {4, 2, 1};
+/// A level whose shorter side would be smaller than this is skipped: the
+/// sector detector looks for corners in 17 px windows at its largest scale
+/// and leaves out one to three of them at the image's borders, so such a
+/// level holds too little image to be worth it.
+constexpr int kMinLevelSide = 240;
+/// Squares of margin kept around what may be a board's inner corners (a grid
+/// found but rejected, a cluster of saddle points) when it is searched in a
+/// crop: the outer squares, one more for a grid shifted by one line (see
+/// FindGrid), and white around the board's outer corners for the detector.
+constexpr double kCropMarginSquares = 2.5;
+/// ... and at least this many pixels of the level searched, for the detector's
+/// ignored border (see kMinLevelSide).
+constexpr int kCropMarginMinPx = 40;
+
+/// A cluster of saddle points is searched at a level only where its spacing
+/// (the median distance between neighbouring points, at most a square's side)
+/// is at least this many pixels of that level: the sector detector does not
+/// find squares that small there, and most clusters in clutter are 5-15 px
+/// apart at full resolution, so at 1/4 resolution their crops were ~750
+/// fruitless searches on METRIC's synthetic cell (368 images). Such a cluster
+/// is searched at the finer levels. 3 px saves 5-10 % of detection time there
+/// and finds the same boards on every cell of bench_accuracy (20 seeds);
+/// 4 px saved more but lost one view of 628 in the large cell.
+constexpr double kMinSaddleSpacingPx = 3.0;
+
+/// One level of the pyramid: the image scaled down by `factor` with every
+/// pixel the mean of a factor x factor block, so that level pixel k has its
+/// centre at factor * k + (factor - 1) / 2 in the full image (pixel centres
+/// at integers, SPEC §2). The full image is cut to a multiple of the factor
+/// first (at most factor - 1 pixels lost on the right and bottom), which keeps
+/// that mapping exact.
+struct Level {
+  int factor = 1;
+  cv::Mat image;
+};
+
+Level MakeLevel(const cv::Mat& gray, int factor) {
+  Level level;
+  level.factor = factor;
+  if (factor == 1) {
+    level.image = gray;
+    return level;
+  }
+  const cv::Size size(gray.cols / factor, gray.rows / factor);
+  cv::resize(gray(cv::Rect(0, 0, size.width * factor, size.height * factor)), level.image, size, 0,
+             0, cv::INTER_AREA);
+  return level;
+}
+
+/// A grid that was found but rejected: the full-image region around it, and
+/// whether it is the board itself (most of its corners are X-junctions, not
+/// clutter) rather than something else that the detector took for one.
+struct Candidate {
+  cv::Rect region;
+  bool board = false;
+};
+
+/// A part of the full image that may hold a checkerboard's inner corners,
+/// and the size of its squares there (px).
+struct Region {
+  cv::Rect box;
+  double square = 0;
+  /// Squares of margin beyond kCropMarginSquares (see WithMargin).
+  double extra_squares = 0;
+  /// Already searched (patch regions are searched at one level).
+  bool searched = false;
+};
+
+/// `region` grown by a margin for the outer squares and the sheet's white
+/// border, and for the border that the sector detector ignores at a level of
+/// `factor` (kCropMarginSquares, kCropMarginMinPx), cut to `image`.
+cv::Rect WithMargin(const Region& region, int factor, const cv::Rect& image) {
+  const int margin = static_cast<int>(
+      std::ceil(std::max((kCropMarginSquares + region.extra_squares) * region.square,
+                         static_cast<double>(kCropMarginMinPx * factor))));
+  const cv::Rect& b = region.box;
+  return cv::Rect(b.x - margin, b.y - margin, b.width + 2 * margin, b.height + 2 * margin) & image;
+}
+
+/// Regions of the full image that may hold a checkerboard: the clusters of
+/// the saddle points of its half-resolution image, of size `half_size`.
+std::vector<Region> BoardRegions(const std::vector<internal::SaddlePoint>& saddles,
+                                 cv::Size half_size) {
+  std::vector<Region> regions;
+  for (const internal::SaddleRegion& cluster :
+       internal::SaddleRegions(saddles, half_size, internal::SaddleRegionOptions{})) {
+    // Half pixel k covers full pixels 2k and 2k + 1.
+    regions.push_back({cv::Rect(2 * cluster.box.x, 2 * cluster.box.y, 2 * cluster.box.width + 2,
+                                2 * cluster.box.height + 2),
+                       2 * cluster.spacing});
+  }
+  return regions;
+}
+
+/// Regions of the full image around the patches of corner grid found in its
+/// half-resolution image (FindGridPatches): patches that share a corner are
+/// one region, the bounding box of their corners, with squares of the
+/// patches' median step. Regions with the most corners first. A board of
+/// `longest_side` inner corners a side may reach that many less three squares
+/// beyond a 3 x 3 patch when only one patch of it was found: the margin
+/// grows by as much.
+std::vector<Region> PatchRegions(const std::vector<GridPatch>& patches, int longest_side) {
+  const double extra_squares = std::max(0, longest_side - 3);
+  std::vector<int> parent(patches.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto root = [&parent](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  std::map<std::pair<int, int>, int> owner;
+  for (int i = 0; i < static_cast<int>(patches.size()); ++i) {
+    for (const cv::Point& c : patches[i].corners) {
+      const auto [it, fresh] = owner.emplace(std::make_pair(c.x, c.y), i);
+      if (!fresh) parent[root(i)] = root(it->second);
+    }
+  }
+  struct Members {
+    std::vector<cv::Point> corners;
+    std::vector<double> steps;
+  };
+  std::map<int, Members> groups;
+  for (const auto& [xy, i] : owner) groups[root(i)].corners.emplace_back(xy.first, xy.second);
+  for (int i = 0; i < static_cast<int>(patches.size()); ++i)
+    groups[root(i)].steps.push_back(patches[i].step_px);
+  std::vector<std::pair<std::size_t, Region>> sized;
+  for (auto& [id, members] : groups) {
+    std::vector<double>& steps = members.steps;
+    std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+    const cv::Rect box = cv::boundingRect(members.corners);
+    // Half pixel k covers full pixels 2k and 2k + 1.
+    sized.push_back({members.corners.size(),
+                     {cv::Rect(2 * box.x, 2 * box.y, 2 * box.width + 2, 2 * box.height + 2),
+                      2 * steps[steps.size() / 2], extra_squares}});
+  }
+  std::stable_sort(sized.begin(), sized.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  // Each region costs a search; clutter may hold a few patches of its own.
+  constexpr std::size_t kMaxRegions = 8;
+  std::vector<Region> regions;
+  for (const auto& entry : sized)
+    if (regions.size() < kMaxRegions) regions.push_back(entry.second);
+  return regions;
+}
+
+}  // namespace
+
+/// The full grid of inner corners, refined and verified, or nullopt.
+///
+/// OpenCV's sector-based detector (findChessboardCornersSB) is used because
+/// the classic cv::findChessboardCorners took 4-15 s on cluttered 1920x1080
+/// images with no board or a partly visible one, even with
+/// CALIB_CB_FAST_CHECK. It is run coarse to fine (kFactors): the first level
+/// where it finds a grid that passes verification at full resolution wins. The
+/// corners are always refined on the full image by RefineGrid, from wherever
+/// the level put them.
+///
+/// At each level it looks first where a board is likely, in crops, and only
+/// then at the whole image: around the grids rejected so far (below), then
+/// around the clusters of saddle points (BoardRegions, a few ms for the whole
+/// image). A crop costs a few ms where the whole image costs 25, 70 or 285 ms
+/// (1/4, 1/2, full resolution of 1920x1080), so the common case is a crop at
+/// 1/4 plus the refinement on the board's bounding box. The whole image is
+/// still searched at every level when the crops fail: the sector detector is
+/// not monotonic in what it is shown, and it found boards in whole images (10
+/// px squares, some oblique views) that it missed in crops around them. Only
+/// the full-resolution one, a quarter of a second, is left out once a rejected
+/// grid was the board itself: it can only find a second board, and a
+/// calibration target is one.
+///
+/// Without CALIB_CB_ACCURACY, SB sometimes returns a grid shifted by one line
+/// onto the ends of the outer black squares (seen on a board turned by about
+/// 90°); verification rejects such a grid. CALIB_CB_ACCURACY (the detector on
+/// a 2x upsampled image, several times slower) then searches again, only in a
+/// crop around the rejected grid, and again at every finer level.
+std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
+  const cv::Size pattern(cols, rows);
+  // CALIB_CB_EXHAUSTIVE tries about 3x as many corners as seeds of a grid,
+  // which finds boards among much clutter. The first whole image searched,
+  // at the coarsest level, goes without it when a finer level follows: that
+  // saved 5-10% of all detection time and found the same boards on METRIC's
+  // synthetic cell, and a board it misses is searched for exhaustively at the
+  // next level.
+  const int quick = cv::CALIB_CB_NORMALIZE_IMAGE;
+  const int thorough = quick | cv::CALIB_CB_EXHAUSTIVE;
+  const int accurate = thorough | cv::CALIB_CB_ACCURACY;
+  const cv::Rect whole_image(0, 0, gray.cols, gray.rows);
+  Grid grid;
+  grid.cols = cols;
+  grid.rows = rows;
+  std::vector<Candidate> candidates;
+
+  // One search of `region` (full-image pixels) of one level: found (refined
+  // and verified), nothing found, or a grid found but rejected, which is then
+  // added to `candidates` unless one already covers it.
+  enum class Outcome { kFound, kNone, kRejected };
+  auto search = [&](const Level& level, cv::Rect region, int flags) {
+    const int f = level.factor;
+    // The region in level pixels: every level pixel whose block lies in it.
+    const int x0 = (region.x + f - 1) / f, y0 = (region.y + f - 1) / f;
+    const cv::Rect crop =
+        cv::Rect(x0, y0, (region.x + region.width) / f - x0, (region.y + region.height) / f - y0) &
+        cv::Rect(0, 0, level.image.cols, level.image.rows);
+    if (crop.width < 3 * cols || crop.height < 3 * rows) return Outcome::kNone;
+    std::vector<cv::Point2f> found;
+    if (!cv::findChessboardCornersSB(level.image(crop), pattern, found, flags))
+      return Outcome::kNone;
+    if (found.size() != static_cast<size_t>(cols) * rows) return Outcome::kNone;
+    // Crop pixel k is level pixel k + crop offset (an integer shift); level
+    // pixel k has its centre at f k + (f - 1) / 2 in the full image.
+    const float offset = 0.5f * static_cast<float>(f - 1);
+    for (auto& p : found)
+      p = static_cast<float>(f) * (p + cv::Point2f(crop.tl())) + cv::Point2f(offset, offset);
+    // SB lists the corners row by row, cols per row (checked on boards and
+    // images turned by every quarter turn); which way round, and so the
+    // handedness, is left to Detect().
+    grid.px = std::move(found);
+    const Grid seen = grid;
+    if (RefineGrid(gray, &grid)) return Outcome::kFound;
+
+    const double square = MedianSquare(seen);
+    const cv::Rect around = WithMargin({cv::boundingRect(seen.px), square}, f, whole_image);
+    // The same board rejected again (at another level) is searched once.
+    for (const Candidate& c : candidates)
+      if (2 * (c.region & around).area() > std::min(c.region.area(), around.area()))
+        return Outcome::kRejected;
+    // The board itself, seen but not verified (as on boards seen very
+    // obliquely), if three quarters of its corners are X-junctions even
+    // before refinement.
+    int junctions = 0;
+    for (const auto& p : seen.px) junctions += LooksLikeXJunction(gray, p, 0.35 * square);
+    candidates.push_back({around, 4 * junctions >= 3 * static_cast<int>(seen.px.size())});
+    return Outcome::kRejected;
+  };
+
+  // The half-resolution image, made once: a level, and where saddle points
+  // are looked for.
+  cv::Mat half;
+  auto level_of = [&](int f) {
+    if (f != 2) return MakeLevel(gray, f);
+    if (half.empty()) half = MakeLevel(gray, 2).image;
+    return Level{2, half};
+  };
+  // The saddle points of the half-resolution image, where the image has more
+  // than one level; and where they cluster.
+  std::optional<std::vector<internal::SaddlePoint>> saddles;
+  std::optional<std::vector<Region>> saddle_regions;
+  std::vector<Region> patch_regions;
+  if (std::min(gray.cols, gray.rows) / 2 >= kMinLevelSide) {
+    saddles = internal::FindSaddlePoints(level_of(2).image, internal::SaddleRegionOptions{});
+    // The cascade's first stage: without a patch of grid among the saddle
+    // points there is no board to search for (boards of fewer than 3 x 2
+    // inner corners hold no such patch and are always searched).
+    internal::GridPatchOptions patch;
+    patch.rows = std::min(std::min(cols, rows), 3);
+    if (std::max(cols, rows) >= 3 && patch.rows >= 2) {
+      const std::vector<GridPatch> patches = FindGridPatches(*saddles, patch);
+      if (patches.empty()) return std::nullopt;
+      patch_regions = PatchRegions(patches, std::max(cols, rows));
+    }
+  }
+  auto covered = [&](const cv::Rect& region, std::size_t num_candidates) {
+    for (std::size_t k = 0; k < num_candidates; ++k) {
+      const cv::Rect& c = candidates[k].region;
+      if (2 * (c & region).area() > std::min(c.area(), region.area())) return true;
+    }
+    return false;
+  };
+
+  bool first = true;
+  for (const int f : kFactors) {
+    if (f > 1 && std::min(gray.cols, gray.rows) / f < kMinLevelSide) continue;
+    const Level level = level_of(f);
+    // The saddle points are looked for in the half-resolution image, before
+    // the first level when another follows (an image too small for more than
+    // one level is searched whole at once).
+    if (!saddle_regions && (f > 1 || !first)) {
+      if (!saddles)
+        saddles = internal::FindSaddlePoints(level_of(2).image, internal::SaddleRegionOptions{});
+      saddle_regions = BoardRegions(*saddles, level_of(2).image.size());
+    }
+    // Seen but rejected at a coarser level: look there first at this one, and
+    // with the slower, more accurate corners. Grids rejected in a crop are
+    // inside it, so they add no candidate.
+    const std::size_t known = candidates.size();
+    for (const int flags : {thorough, accurate}) {
+      for (std::size_t k = 0; k < known; ++k) {
+        if (search(level, candidates[k].region, flags) == Outcome::kFound) return grid;
+        candidates.resize(known);
+      }
+    }
+    // Where the patches of corner grid are (the cascade's first stage found
+    // them), each once, at the coarsest level where its squares are not too
+    // small: at 1/4 a crop costs a few ms where the whole image costs 25.
+    // These searches come on top of the ones below, which ran alone before;
+    // one that finds nothing leaves no trace (OpenCV's random state and the
+    // candidates are put back), so that the searches below find the boards
+    // they found without them. Searching the patches at finer levels as well
+    // found no more boards on METRIC and cost 5 % more.
+    for (Region& patch : patch_regions) {
+      if (patch.searched || patch.square < kMinSaddleSpacingPx * f) continue;
+      patch.searched = true;
+      const std::uint64_t rng_state = cv::theRNG().state;
+      const std::size_t before = candidates.size();
+      if (search(level, WithMargin(patch, f, whole_image), thorough) == Outcome::kFound)
+        return grid;
+      cv::theRNG().state = rng_state;
+      candidates.resize(before);
+    }
+    // Then where the saddle points are; grids rejected there become
+    // candidates.
+    if (saddle_regions) {
+      for (const Region& cluster : *saddle_regions) {
+        if (cluster.square < kMinSaddleSpacingPx * f) continue;
+        const cv::Rect region = WithMargin(cluster, f, whole_image);
+        if (!covered(region, known) && search(level, region, thorough) == Outcome::kFound)
+          return grid;
+      }
+    }
+    // The whole image, except at full resolution once a rejected grid was the
+    // board.
+    const bool board_seen = std::any_of(candidates.begin(), candidates.end(),
+                                        [](const Candidate& c) { return c.board; });
+    if (f > 1 || !board_seen) {
+      const int whole_flags = first && f > 1 ? quick : thorough;
+      if (search(level, whole_image, whole_flags) == Outcome::kFound) return grid;
+    }
+    first = false;
+    const std::size_t all = candidates.size();
+    for (std::size_t k = known; k < all; ++k) {
+      if (search(level, candidates[k].region, accurate) == Outcome::kFound) return grid;
+      candidates.resize(all);
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace handeye::internal
