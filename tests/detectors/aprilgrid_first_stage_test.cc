@@ -7,7 +7,7 @@
 #include <random>
 
 #include "handeye/detectors/aprilgrid_detector.h"
-#include "handeye/io/render.h"
+#include "handeye/sim/render.h"
 #include "rendered_views.h"
 
 using namespace handeye;

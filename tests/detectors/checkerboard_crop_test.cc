@@ -12,7 +12,7 @@
 #include "../../detectors/src/grid_patch.h"
 #include "board_views.h"
 #include "handeye/detectors/registry.h"
-#include "handeye/io/render.h"
+#include "handeye/sim/render.h"
 
 using namespace handeye;
 
