@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "calibration_internal.h"
+#include "cost_jacobians.h"
 #include "handeye/core/transform.h"
 
 namespace handeye::internal {
@@ -30,12 +31,6 @@ struct PnpNoise {
   double across_m2 = 0;
 };
 
-Eigen::Matrix3d Cross(const Eigen::Vector3d& v) {  // Cross(v) · w = v × w
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
 PnpNoise PnpNoiseOf(const View& view, const Camera& camera, const Eigen::Vector3d& centre, double sigma_px) {
   Eigen::Matrix<double, 6, 6> JtJ = Eigen::Matrix<double, 6, 6>::Zero();
   const Eigen::Isometry3d& T = *view.T_cam_target;
@@ -46,7 +41,7 @@ PnpNoise PnpNoiseOf(const View& view, const Camera& camera, const Eigen::Vector3
     dproj << camera.fx() / P.z(), 0, -camera.fx() * P.x() / (P.z() * P.z()), 0, camera.fy() / P.z(),
         -camera.fy() * P.y() / (P.z() * P.z());
     Eigen::Matrix<double, 3, 6> dP;  // a small turn ω and shift δt of the target, camera frame
-    dP << -Cross(P), Eigen::Matrix3d::Identity();
+    dP << -cost_internal::Skew(P), Eigen::Matrix3d::Identity();
     const Eigen::Matrix<double, 2, 6> J = dproj * dP;
     JtJ += J.transpose() * J;
   }
@@ -57,7 +52,7 @@ PnpNoise PnpNoiseOf(const View& view, const Camera& camera, const Eigen::Vector3
   out.rotation_rad2 = C.topLeftCorner<3, 3>().trace() / 3.0;
   const Eigen::Vector3d c = T * centre;
   Eigen::Matrix<double, 3, 6> dc;
-  dc << -Cross(c), Eigen::Matrix3d::Identity();
+  dc << -cost_internal::Skew(c), Eigen::Matrix3d::Identity();
   const Eigen::Vector3d ray = c.normalized();
   const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - ray * ray.transpose();
   out.across_m2 = (across * dc * C * dc.transpose() * across).trace() / 2.0;
