@@ -15,6 +15,7 @@
 #include "commands.h"
 #include "handeye/core/calibration.h"
 #include "handeye/core/error.h"
+#include "handeye/core/setup_frames.h"
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/detection.h"
 #include "handeye/io/result_json.h"
@@ -53,10 +54,10 @@ void CheckWritable(const std::string& path, const std::string& flag) {
 }
 
 void PrintSummary(const CalibrationResult& result) {
-  const bool eye_to_hand = result.setup == Setup::kEyeToHand;
+  const std::string mount = FramesOf(result.setup).mount;
   std::printf("method %s, %s\n", MethodName(result.method), SetupName(result.setup));
-  std::printf("%-12s %10s %10s %10s %8s %6s\n", "camera", eye_to_hand ? "x_base mm" : "x_ee mm",
-              eye_to_hand ? "y_base mm" : "y_ee mm", eye_to_hand ? "z_base mm" : "z_ee mm", "rms px", "views");
+  std::printf("%-12s %10s %10s %10s %8s %6s\n", "camera", ("x_" + mount + " mm").c_str(),
+              ("y_" + mount + " mm").c_str(), ("z_" + mount + " mm").c_str(), "rms px", "views");
   for (const CameraResult& cam : result.cameras) {
     if (!cam.calibrated) {
       std::printf("%-12s %10s %10s %10s %8s %6d\n", cam.name.c_str(), "-", "-", "-", "-", cam.views);
@@ -68,7 +69,7 @@ void PrintSummary(const CalibrationResult& result) {
   }
   std::printf("rms %.3f px, AX=ZB %.3f mm (cameras in the %s frame; %.3f mm in the target frame) / %.4f deg, "
               "%d iterations, %.3f s\n",
-              result.metrics.rms_px, result.metrics.axzb_camera_translation_mm, eye_to_hand ? "base" : "ee",
+              result.metrics.rms_px, result.metrics.axzb_camera_translation_mm, mount.c_str(),
               result.metrics.axzb_translation_mm, result.metrics.axzb_rotation_deg, result.solver.iterations,
               result.solver.seconds);
   for (const CameraResult& cam : result.cameras)

@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "handeye/core/error.h"
 #include "handeye/core/evaluation.h"
+#include "handeye/core/setup_frames.h"
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/result_json.h"
 
@@ -48,7 +49,7 @@ void RunEvaluate(const EvaluateArgs& args) {
   for (const auto& c : eval.cameras) std::printf("%-12s %12.3f %12.4f\n", c.name.c_str(), c.translation_mm, c.rotation_deg);
   std::printf("%-12s %12.3f %12.4f\n", "mean", eval.mean_translation_mm, eval.mean_rotation_deg);
   if (eval.has_target_error)
-    std::printf("%-12s %12.3f %12.4f\n", result.setup == Setup::kEyeToHand ? "T_ee_target" : "T_base_target",
+    std::printf("%-12s %12.3f %12.4f\n", FramesOf(result.setup).target_key.c_str(),
                 eval.target_translation_mm, eval.target_rotation_deg);
 }
 

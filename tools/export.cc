@@ -10,6 +10,7 @@
 
 #include "commands.h"
 #include "handeye/core/error.h"
+#include "handeye/core/setup_frames.h"
 #include "handeye/io/export.h"
 #include "handeye/io/result_json.h"
 
@@ -90,7 +91,7 @@ void RunExport(const ExportArgs& args) {
   std::cerr << "wrote " << args.output << " (" << ExportFormatName(*format) << ": " << cameras
             << " cameras" << (frames.optical_only ? " as optical frames only" : "")
             << " and the target, parent frame "
-            << (result.setup == Setup::kEyeToHand ? frames.base_frame : frames.ee_frame) << ")\n";
+            << frames.RosName(FramesOf(result.setup).mount) << ")\n";
 }
 
 }  // namespace

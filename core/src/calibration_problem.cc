@@ -11,6 +11,7 @@
 #include "calibration_internal.h"
 #include "diagnostics_internal.h"
 #include "handeye/core/error.h"
+#include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
 
 namespace handeye::internal {
@@ -134,8 +135,8 @@ Problem BuildProblem(const Dataset& dataset, const CalibrationOptions& options) 
   if (!dataset.target) throw InputError("", "/target", "a target");
   Problem problem;
   problem.dataset = &dataset;
-  for (const auto& pose : dataset.poses)
-    problem.M.push_back(dataset.setup == Setup::kEyeToHand ? pose.T_base_ee : pose.T_base_ee.inverse());
+  const SetupFrames frames = FramesOf(dataset.setup);
+  for (const auto& pose : dataset.poses) problem.M.push_back(frames.MountFromHolder(pose.T_base_ee));
   problem.camera_views.resize(dataset.cameras.size());
   std::set<std::pair<int, int>> seen;
   for (const auto& obs : dataset.observations) {

@@ -18,6 +18,7 @@
 #include "cost_jacobians.h"
 #include "handeye/core/cost_functions.h"
 #include "handeye/core/error.h"
+#include "handeye/core/setup_frames.h"
 
 namespace handeye::internal {
 namespace {
@@ -266,7 +267,7 @@ std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
         M[view.pose] = ToPoseParams(problem.M[view.pose]);
         ceres_problem.AddParameterBlock(M_j, 7, new PoseManifold());
         ceres_problem.AddResidualBlock(
-            RobotPosePrior::Create(dataset.poses[view.pose].T_base_ee, dataset.setup == Setup::kEyeInHand,
+            RobotPosePrior::Create(dataset.poses[view.pose].T_base_ee, FramesOf(dataset.setup).RobotPoseInverted(),
                                    robot->sigma_rad, robot->sigma_m, robot->pixel_sigma_px),
             nullptr, M_j);
         view_blocks.push_back(ceres_problem.AddResidualBlock(

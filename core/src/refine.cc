@@ -17,6 +17,7 @@
 #include "calibration_internal.h"
 #include "handeye/core/cost_functions.h"
 #include "handeye/core/error.h"
+#include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
 
 namespace handeye::internal {
@@ -228,8 +229,8 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
       ceres_problem.AddParameterBlock(M[j], 7);
       SetPoseManifold(&ceres_problem, M[j]);
       ceres_problem.AddResidualBlock(
-          RobotPosePrior::Create(dataset.poses[j].T_base_ee, dataset.setup == Setup::kEyeInHand, robot->sigma_rad,
-                                 robot->sigma_m, robot->pixel_sigma_px),
+          RobotPosePrior::Create(dataset.poses[j].T_base_ee, FramesOf(dataset.setup).RobotPoseInverted(),
+                                 robot->sigma_rad, robot->sigma_m, robot->pixel_sigma_px),
           nullptr, M[j]);
     }
     return M[j];

@@ -11,6 +11,7 @@
 #include "calibration_internal.h"
 #include "handeye/core/cost_functions.h"
 #include "handeye/core/error.h"
+#include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
 
 namespace handeye {
@@ -75,8 +76,7 @@ PositionCovariance ComputePositionCovariance(const Dataset& dataset, const Calib
       problem.AddParameterBlock(X[k].data(), 7, new PoseManifold());
       has_views[k] = true;
     }
-    const Eigen::Isometry3d M = dataset.setup == Setup::kEyeToHand ? dataset.poses[j].T_base_ee
-                                                                   : dataset.poses[j].T_base_ee.inverse();
+    const Eigen::Isometry3d M = FramesOf(dataset.setup).MountFromHolder(dataset.poses[j].T_base_ee);
     ViewPoints points;
     for (size_t i = 0; i < obs.ids.size(); ++i) {
       const TargetPoint* p = dataset.target->FindPoint(obs.ids[i]);

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "handeye/core/error.h"
+#include "handeye/core/setup_frames.h"
 #include "handeye/io/atomic_file.h"
 
 namespace handeye {
@@ -197,7 +198,7 @@ std::string OpenCvYaml(const CalibrationResult& result, const Header& header, co
                        const ExportOptions& options) {
   cv::FileStorage fs(".yaml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
   for (const auto& line : HeaderLines(header)) fs.writeComment(line);
-  const std::string cam_key = result.setup == Setup::kEyeToHand ? "T_base_cam" : "T_ee_cam";
+  const std::string cam_key = FramesOf(result.setup).camera_key;
   if (options.optical_only)
     fs.writeComment(cam_key + " maps points of the optical (OpenCV) camera frame into the " + parent +
                     " frame. 4x4, metres.");
@@ -217,8 +218,7 @@ std::string OpenCvYaml(const CalibrationResult& result, const Header& header, co
     fs << "}";
   }
   fs << "]";
-  const std::string target_key = result.setup == Setup::kEyeToHand ? "T_ee_target" : "T_base_target";
-  fs << target_key << Matrix4(result.T_target);
+  fs << FramesOf(result.setup).target_key << Matrix4(result.T_target);
   return fs.releaseAndGetString();
 }
 
@@ -273,6 +273,12 @@ bool ExportOptions::Check(std::string* why) const {
   return true;
 }
 
+const std::string& ExportOptions::RosName(const std::string& frame) const {
+  if (frame == "base") return base_frame;
+  if (frame == "ee") return ee_frame;
+  throw std::invalid_argument("ExportOptions::RosName: '" + frame + "' is not a robot frame (base or ee)");
+}
+
 Eigen::Isometry3d OpticalInLink() {
   Eigen::Matrix3d R_link_optical;
   // Columns: the optical x (right), y (down), z (forward) axes in link axes.
@@ -288,8 +294,8 @@ std::vector<StaticTransform> StaticTransformsOf(const CalibrationResult& result,
                                                 std::vector<std::string>* warnings) {
   std::string why;
   if (!options.Check(&why)) throw std::invalid_argument("ExportOptions: " + why);
-  const bool to_hand = result.setup == Setup::kEyeToHand;
-  const std::string& parent = to_hand ? options.base_frame : options.ee_frame;
+  const SetupFrames frames = FramesOf(result.setup);
+  const std::string& parent = options.RosName(frames.mount);
   for (const auto& named : options.camera_frames) {
     const bool known = std::any_of(result.cameras.begin(), result.cameras.end(),
                                    [&](const CameraResult& camera) { return camera.name == named.first; });
@@ -333,8 +339,8 @@ std::vector<StaticTransform> StaticTransformsOf(const CalibrationResult& result,
     out.push_back({link, optical, T_link_optical,
                    camera.name + " optical frame (z forward, x right, y down): the calibrated camera frame"});
   }
-  out.push_back({to_hand ? options.ee_frame : options.base_frame, options.target_frame, result.T_target,
-                 std::string("calibration target (") + (to_hand ? "T_ee_target" : "T_base_target") + ")"});
+  out.push_back({options.RosName(frames.holder), options.target_frame, result.T_target,
+                 "calibration target (" + frames.target_key + ")"});
   return out;
 }
 
@@ -343,8 +349,7 @@ std::string FormatExport(const CalibrationResult& result, ExportFormat format, c
   const std::vector<StaticTransform> transforms = StaticTransformsOf(result, options, warnings);
   if (transforms.size() < 2) throw InputError("", "/cameras", "no calibrated camera; nothing to export");
   const Header header{source, SetupName(result.setup), MethodName(result.method), options.optical_only};
-  const bool to_hand = result.setup == Setup::kEyeToHand;
-  const std::string& parent = to_hand ? options.base_frame : options.ee_frame;
+  const std::string& parent = options.RosName(FramesOf(result.setup).mount);
   switch (format) {
     case ExportFormat::kRos2Launch: return Ros2Launch(transforms, header);
     case ExportFormat::kUrdf: return Urdf(transforms, header, parent, options.target_frame);

@@ -7,6 +7,7 @@
 
 #include "dataset_json_internal.h"
 #include "handeye/core/error.h"
+#include "handeye/core/setup_frames.h"
 #include "handeye/io/atomic_file.h"
 #include "handeye/io/dataset_json.h"
 
@@ -52,21 +53,6 @@ nlohmann::ordered_json PixelsJson(const std::vector<Eigen::Vector2d>& points) {
   return px;
 }
 
-namespace {
-
-// The keys of the unknowns in the setup's names.
-struct TruthKeys {
-  const char* cam;
-  const char* target;
-};
-
-TruthKeys KeysOf(Setup setup) {
-  return setup == Setup::kEyeToHand ? TruthKeys{"T_base_cam", "T_ee_target"}
-                                    : TruthKeys{"T_ee_cam", "T_base_target"};
-}
-
-}  // namespace
-
 GroundTruth ReadGroundTruth(const JsonReader& r, std::optional<Setup> dataset_setup) {
   r.ExpectObject("a ground-truth object");
   GroundTruth truth;
@@ -86,21 +72,20 @@ GroundTruth ReadGroundTruth(const JsonReader& r, std::optional<Setup> dataset_se
   } else {
     truth.setup = *dataset_setup;
   }
-  const internal::TruthKeys keys = internal::KeysOf(truth.setup);
-  const Setup other = truth.setup == Setup::kEyeToHand ? Setup::kEyeInHand : Setup::kEyeToHand;
-  for (const char* key : {KeysOf(other).cam, KeysOf(other).target})
+  const SetupFrames keys = FramesOf(truth.setup);
+  const SetupFrames other = FramesOf(truth.setup == Setup::kEyeToHand ? Setup::kEyeInHand : Setup::kEyeToHand);
+  for (const std::string& key : {other.camera_key, other.target_key})
     if (r.Has(key))
-      throw r.Key(key).Error(std::string(key) + " belongs to " + SetupName(other) +
-                             " ground truth; for " + SetupName(truth.setup) + " expected " +
-                             keys.cam + " and " + keys.target);
-  r.RejectUnknownKeys({"format", "setup", keys.cam, keys.target, "poses"});
+      throw r.Key(key).Error(key + " belongs to " + SetupName(other.setup) + " ground truth; for " +
+                             SetupName(truth.setup) + " expected " + keys.camera_key + " and " + keys.target_key);
+  r.RejectUnknownKeys({"format", "setup", keys.camera_key, keys.target_key, "poses"});
 
-  const JsonReader cams = r.Key(keys.cam);
+  const JsonReader cams = r.Key(keys.camera_key);
   for (const auto& [name, T] : cams.Members("an object {camera name: 4x4 transform}"))
     truth.T_cam[name] = T.Rigid(false);
   if (truth.T_cam.empty()) throw cams.Error("expected at least one camera");
-  truth.has_T_target = r.Has(keys.target);
-  if (truth.has_T_target) truth.T_target = r.Key(keys.target).Rigid(false);
+  truth.has_T_target = r.Has(keys.target_key);
+  if (truth.has_T_target) truth.T_target = r.Key(keys.target_key).Rigid(false);
 
   const JsonReader poses = r.Key("poses");
   if (!poses.present()) return truth;
@@ -120,7 +105,7 @@ GroundTruth ReadGroundTruth(const JsonReader& r, std::optional<Setup> dataset_se
     for (const auto& [camera, points] :
          entry.Key("points_px").Members("an object {camera name: {\"ids\", \"px\"}}")) {
       if (!truth.T_cam.count(camera))
-        throw points.Error("unknown camera '" + camera + "'; expected one of " + keys.cam);
+        throw points.Error("unknown camera '" + camera + "'; expected one of " + keys.camera_key);
       points.ExpectObject("an object {\"ids\": [...], \"px\": [[u, v], ...]}");
       points.RejectUnknownKeys({"ids", "px"});
       Observation view;
@@ -161,14 +146,14 @@ GroundTruth LoadGroundTruth(const std::string& path) {
 }
 
 void SaveGroundTruth(const GroundTruth& truth, const std::string& path) {
-  const internal::TruthKeys keys = internal::KeysOf(truth.setup);
+  const SetupFrames keys = FramesOf(truth.setup);
   OrderedJson j = OrderedJson::object();
   j["format"] = kGroundTruthFormat;
   j["setup"] = SetupName(truth.setup);
   OrderedJson cams = OrderedJson::object();
   for (const auto& [name, T] : truth.T_cam) cams[name] = JsonFromTransform(T);
-  j[keys.cam] = cams;
-  if (truth.has_T_target) j[keys.target] = JsonFromTransform(truth.T_target);
+  j[keys.camera_key] = cams;
+  if (truth.has_T_target) j[keys.target_key] = JsonFromTransform(truth.T_target);
   if (!truth.poses.empty()) {
     OrderedJson poses = OrderedJson::array();
     for (const auto& pose : truth.poses) {

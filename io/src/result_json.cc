@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
 #include "handeye/io/atomic_file.h"
 #include "handeye/io/json_util.h"
@@ -13,9 +14,6 @@ namespace handeye {
 namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
-
-const char* CameraKey(Setup setup) { return setup == Setup::kEyeToHand ? "T_base_cam" : "T_ee_cam"; }
-const char* TargetKey(Setup setup) { return setup == Setup::kEyeToHand ? "T_ee_target" : "T_base_target"; }
 
 // Summaries for people: millimetres, fixed-axis roll/pitch/yaw (x, y, z; R =
 // Rz(yaw)·Ry(pitch)·Rx(roll)) in degrees, and the quaternion.
@@ -97,15 +95,12 @@ IntrinsicsResult ReadIntrinsicsResult(const JsonReader& cam, const std::string& 
   return out;
 }
 
-// The frame the cameras are fixed to, where AX = ZB says where they sit.
-const char* MountFrame(Setup setup) { return setup == Setup::kEyeToHand ? "base" : "ee"; }
-
 // The diagnostics Calibrate() computed for a camera (handeye/core/diagnostics.h).
 void AddDiagnostics(const CameraResult& cam, Setup setup, nlohmann::ordered_json* c) {
   (*c)["max_px"] = cam.max_px;
   (*c)["outliers"] = cam.outliers;
   (*c)["axzb"] = {{"translation_mm", cam.axzb.camera_frame_mm},
-                  {"frame", MountFrame(setup)},
+                  {"frame", FramesOf(setup).mount},
                   {"target_frame_translation_mm", cam.axzb.target_frame_mm},
                   {"rotation_deg", cam.axzb.rotation_deg},
                   {"views", cam.axzb.views}};
@@ -192,15 +187,16 @@ void SaveResult(const CalibrationResult& result, const std::string& path) {
   nlohmann::ordered_json root;
   root["format"] = "handeye-result/1";
   root["setup"] = SetupName(result.setup);
+  const SetupFrames frames = FramesOf(result.setup);
   root["method"] = MethodName(result.method);
   nlohmann::ordered_json cameras = nlohmann::ordered_json::object();
   for (const CameraResult& cam : result.cameras) {
     nlohmann::ordered_json c;
     c["calibrated"] = cam.calibrated;
     if (cam.calibrated) {
-      c[CameraKey(result.setup)] = JsonFromTransform(cam.T_cam);
+      c[frames.camera_key] = JsonFromTransform(cam.T_cam);
       AddSummary(cam.T_cam, &c);
-      if (cam.own_T_target) c[TargetKey(result.setup)] = JsonFromTransform(*cam.own_T_target);
+      if (cam.own_T_target) c[frames.target_key] = JsonFromTransform(*cam.own_T_target);
       c["rms_px"] = cam.rms_px;
       if (cam.sigma) c["sigma"] = SigmaJson(*cam.sigma);
       if (cam.cross_validation)
@@ -216,11 +212,11 @@ void SaveResult(const CalibrationResult& result, const std::string& path) {
     cameras[cam.name] = c;
   }
   root["cameras"] = cameras;
-  root[TargetKey(result.setup)] = JsonFromTransform(result.T_target);
+  root[frames.target_key] = JsonFromTransform(result.T_target);
   nlohmann::ordered_json target_summary;
   AddSummary(result.T_target, &target_summary);
-  root[std::string(TargetKey(result.setup)) + "_summary"] = target_summary;
-  if (result.target_sigma) root[std::string(TargetKey(result.setup)) + "_sigma"] = SigmaJson(*result.target_sigma);
+  root[frames.target_key + "_summary"] = target_summary;
+  if (result.target_sigma) root[frames.target_key + "_sigma"] = SigmaJson(*result.target_sigma);
   nlohmann::ordered_json pairs = nlohmann::ordered_json::object();
   for (const CameraPairResult& p : result.camera_pairs) {
     nlohmann::ordered_json entry;
@@ -234,7 +230,7 @@ void SaveResult(const CalibrationResult& result, const std::string& path) {
                      {"axzb_translation_frame", "target"},
                      {"axzb_rotation_deg", result.metrics.axzb_rotation_deg},
                      {"axzb_camera_translation_mm", result.metrics.axzb_camera_translation_mm},
-                     {"axzb_camera_frame", MountFrame(result.setup)}};
+                     {"axzb_camera_frame", frames.mount}};
   root["solver"] = {{"seconds", result.solver.seconds},
                     {"iterations", result.solver.iterations},
                     {"converged", result.solver.converged},
@@ -276,6 +272,7 @@ CalibrationResult LoadResult(const std::string& path) {
   const auto parsed_setup = ParseSetup(setup);
   if (!parsed_setup) throw root.Key("setup").Error("\"eye_to_hand\" or \"eye_in_hand\"");
   result.setup = *parsed_setup;
+  const SetupFrames frames = FramesOf(result.setup);
   const std::string method = root.Key("method").String();
   const auto parsed_method = ParseMethod(method);
   if (!parsed_method) throw root.Key("method").Error("a method name, got \"" + method + "\"");
@@ -285,9 +282,9 @@ CalibrationResult LoadResult(const std::string& path) {
     c.name = name;
     c.calibrated = ReadBool(cam.Key("calibrated"));
     if (c.calibrated) {
-      c.T_cam = cam.Key(CameraKey(result.setup)).Rigid(false);
+      c.T_cam = cam.Key(frames.camera_key).Rigid(false);
       c.rms_px = cam.Key("rms_px").Number();
-      if (cam.Has(TargetKey(result.setup))) c.own_T_target = cam.Key(TargetKey(result.setup)).Rigid(false);
+      if (cam.Has(frames.target_key)) c.own_T_target = cam.Key(frames.target_key).Rigid(false);
       if (cam.Has("intrinsics")) c.intrinsics = ReadIntrinsicsResult(cam, name);
       if (cam.Has("sigma")) c.sigma = ReadSigma(cam.Key("sigma"));
       if (cam.Has("cross_validation")) {
@@ -305,8 +302,8 @@ CalibrationResult LoadResult(const std::string& path) {
     c.views_rejected = cam.Key("views_rejected").Int(0);
     result.cameras.push_back(c);
   }
-  result.T_target = root.Key(TargetKey(result.setup)).Rigid(false);
-  const std::string target_sigma = std::string(TargetKey(result.setup)) + "_sigma";
+  result.T_target = root.Key(frames.target_key).Rigid(false);
+  const std::string target_sigma = frames.target_key + "_sigma";
   if (root.Has(target_sigma)) result.target_sigma = ReadSigma(root.Key(target_sigma));
   if (root.Has("camera_pairs")) {
     for (const auto& [key, entry] : root.Key("camera_pairs").Members("an object of camera pairs")) {

@@ -312,6 +312,22 @@ TEST_CASE("Frame names: options are checked, camera names must make frame names"
                     Contains("no calibrated camera; nothing to export"));
 }
 
+TEST_CASE("The ROS names of the robot frames: base and ee as the options name them", "[io][export]") {
+  ExportOptions frames;
+  frames.base_frame = "world_base";
+  frames.ee_frame = "flange";
+  CHECK(frames.RosName("base") == "world_base");
+  CHECK(frames.RosName("ee") == "flange");
+  CHECK_THROWS_AS(frames.RosName("target"), std::invalid_argument);
+  // The parent of the cameras is the setup's mount, the target's its holder.
+  for (const Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
+    const std::vector<StaticTransform> transforms = StaticTransformsOf(SampleResult(setup), frames, nullptr);
+    CHECK(transforms.front().parent == (setup == Setup::kEyeToHand ? "world_base" : "flange"));
+    CHECK(transforms.back().parent == (setup == Setup::kEyeToHand ? "flange" : "world_base"));
+    CHECK_THAT(transforms.back().what, Contains(setup == Setup::kEyeToHand ? "T_ee_target" : "T_base_target"));
+  }
+}
+
 TEST_CASE("Camera frame names: checked, known cameras only, no clashes", "[io][export]") {
   ExportOptions frames;
   std::string why;

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "handeye/core/transform.h"
+#include "handeye/core/setup_frames.h"
 #include "report_html.h"
 #include "report_internal.h"
 
@@ -143,7 +144,7 @@ std::string RenderHtml(const ReportModel& model, const PlotFiles& plots,
   out << "<div class=\"verdict " << (model.warnings.empty() ? "ok" : "warn") << "\">RMS <b>"
       << Num(result.metrics.rms_px, 3) << " px</b> over all used views · AX=ZB <b>"
       << Num(result.metrics.axzb_camera_translation_mm, 2) << " mm</b> (cameras in the "
-      << (result.setup == Setup::kEyeToHand ? "base" : "ee") << " frame) / <b>"
+      << FramesOf(result.setup).mount << " frame) / <b>"
       << Num(result.metrics.axzb_rotation_deg, 3) << "°</b> · solver "
       << (result.solver.converged ? "converged" : "<span class=\"bad\">did not converge</span>")
       << " (" << result.solver.iterations << " iterations, " << Num(result.solver.seconds, 2)

@@ -8,16 +8,16 @@
 #include <set>
 
 #include "handeye/core/error.h"
+#include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
 #include "report_internal.h"
 
 namespace handeye::report {
 namespace {
 
-// X_k and M_j of calibration.h's chain p_cam = X_k · M_j · Z · p_target.
+// T_mount_holder of a pose in the chain T_cam_target = T_cam_mount · T_mount_holder · T_holder_target.
 Eigen::Isometry3d ChainM(const Dataset& dataset, int pose) {
-  const Eigen::Isometry3d& T_base_ee = dataset.poses[pose].T_base_ee;
-  return dataset.setup == Setup::kEyeToHand ? T_base_ee : T_base_ee.inverse();
+  return FramesOf(dataset.setup).MountFromHolder(dataset.poses[pose].T_base_ee);
 }
 
 // The Z a camera's residuals are computed with: its own for per-camera

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
 
+#include "handeye/core/setup_frames.h"
 #include "handeye/io/image.h"
 #include "report_internal.h"
 #include "report_plot.h"
@@ -176,7 +177,9 @@ cv::Mat ViewRms(const ReportModel& model) {
 cv::Mat Map(const ReportModel& model) {
   const Dataset& dataset = *model.dataset;
   const CalibrationResult& result = *model.result;
-  const bool eye_to_hand = dataset.setup == Setup::kEyeToHand;
+  const SetupFrames frames = FramesOf(dataset.setup);
+  // Cameras on the base stand still in this map; on the flange they move with the robot.
+  const bool cameras_on_base = frames.mount == "base";
   const Eigen::Vector2d centre2 = dataset.target->Extent().center();
   const Eigen::Vector3d target_centre(centre2.x(), centre2.y(), 0);
 
@@ -191,11 +194,9 @@ cv::Mat Map(const ReportModel& model) {
     if (!cam.result->calibrated || !view.used) continue;
     const Eigen::Isometry3d& T_base_ee = dataset.poses[view.pose].T_base_ee;
     const Eigen::Isometry3d Z = cam.result->own_T_target.value_or(result.T_target);
-    // eye_to_hand: T_base_target = T_base_ee · T_ee_target, camera fixed;
-    // eye_in_hand: target fixed, T_base_cam = T_base_ee · T_ee_cam.
-    const Eigen::Isometry3d T_base_target = eye_to_hand ? T_base_ee * Z : Z;
-    const Eigen::Isometry3d T_base_cam =
-        eye_to_hand ? cam.result->T_cam : T_base_ee * cam.result->T_cam;
+    // T_cam is T_mount_cam and Z T_holder_target; one of mount and holder is the base.
+    const Eigen::Isometry3d T_base_target = frames.BaseFromHolder(T_base_ee) * Z;
+    const Eigen::Isometry3d T_base_cam = frames.BaseFromMount(T_base_ee) * cam.result->T_cam;
     sightings.push_back({view.camera, T_base_cam.translation(), T_base_target * target_centre,
                          T_base_cam.rotation().col(2)});
     extent_points.push_back(sightings.back().camera_at);
@@ -215,8 +216,8 @@ cv::Mat Map(const ReportModel& model) {
     legend.push_back(
         {model.cameras[k].camera->name, CameraColor(static_cast<int>(k)), Marker::kTriangle});
   legend.push_back(
-      {eye_to_hand ? "target, as seen by camera" : "target centre", {90, 90, 90}, Marker::kDisc});
-  legend.push_back({eye_to_hand ? "camera, arrow: view axis" : "camera at a pose, view axis",
+      {cameras_on_base ? "target, as seen by camera" : "target centre", {90, 90, 90}, Marker::kDisc});
+  legend.push_back({cameras_on_base ? "camera, arrow: view axis" : "camera at a pose, view axis",
                     {90, 90, 90},
                     Marker::kTriangle});
   legend.push_back({"robot base, x and y axes", {30, 30, 30}, Marker::kSquare});
@@ -247,7 +248,7 @@ cv::Mat Map(const ReportModel& model) {
   plot.Arrow({0, 0}, {0, arrow}, {40, 160, 40}, 2, 8);
   plot.Point({0, 0}, Marker::kSquare, 14, {30, 30, 30});
   plot.Label({0, 0}, "robot base", {30, 30, 30}, 10, 12, {0, 0}, 11);
-  if (!eye_to_hand) {
+  if (!cameras_on_base) {
     const Eigen::Vector3d t = result.T_target * target_centre;
     plot.Point(t.head<2>(), Marker::kDiamond, 16, {30, 30, 30}, 2);
     plot.Label(t.head<2>(), "target (fixed)", {30, 30, 30}, 12, -4, {0, 0.5}, 11);
@@ -258,7 +259,7 @@ cv::Mat Map(const ReportModel& model) {
     const CameraModel& cam = model.cameras[k];
     const cv::Scalar color = CameraColor(static_cast<int>(k));
     if (!cam.result->calibrated) continue;
-    if (eye_to_hand) {
+    if (cameras_on_base) {
       const Eigen::Isometry3d& T = cam.result->T_cam;
       const Eigen::Vector3d at = T.translation(), dir = T.rotation().col(2);
       // The optical axis seen from above: short when the camera looks down.

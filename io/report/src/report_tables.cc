@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "handeye/core/transform.h"
+#include "handeye/core/setup_frames.h"
 #include "report_html.h"
 
 namespace handeye::report {
@@ -50,7 +51,7 @@ void UncertaintyTable(const ReportModel& model, std::ostringstream& out) {
          "together; a point in front of a camera is where the camera puts something it sees at that "
          "distance.";
   if (model.result->target_sigma)
-    out << " The target on the " << (model.result->setup == Setup::kEyeToHand ? "flange" : "base")
+    out << " The target on the " << FramesOf(model.result->setup).holder_in_words
         << ": ± " << Num(model.result->target_sigma->position_mm, 2) << " mm, ± "
         << Num(model.result->target_sigma->rotation_deg, 4) << "°.";
   out << "</p>\n";
@@ -109,9 +110,9 @@ void IntrinsicsTable(const ReportModel& model, std::ostringstream& out) {
 }
 
 void CameraTables(const ReportModel& model, std::ostringstream& out) {
-  const bool eye_to_hand = model.dataset->setup == Setup::kEyeToHand;
-  const std::string T = eye_to_hand ? "T_base_cam" : "T_ee_cam";
-  const std::string frame = eye_to_hand ? "base" : "ee";
+  const SetupFrames frames = FramesOf(model.dataset->setup);
+  const std::string& T = frames.camera_key;
+  const std::string& frame = frames.mount;
   auto flagged = [&](const CameraModel& cam) {
     for (const auto& w : model.warnings)
       if (w.rfind("camera '" + cam.camera->name + "'", 0) == 0) return true;
@@ -198,8 +199,8 @@ void CameraTables(const ReportModel& model, std::ostringstream& out) {
 
 void SharedAndPairs(const ReportModel& model, std::ostringstream& out) {
   const CalibrationResult& result = *model.result;
-  const bool eye_to_hand = model.dataset->setup == Setup::kEyeToHand;
-  const std::string Z = eye_to_hand ? "T_ee_target" : "T_base_target";
+  const SetupFrames frames = FramesOf(model.dataset->setup);
+  const std::string& Z = frames.target_key;
   out << "<h3>Shared transform " << Z
       << "</h3>\n<table><tr><th class=\"name\">transform</th><th>x, y, z (mm)</th>"
       << "<th>roll, pitch, yaw (°)</th><th>quaternion x, y, z, w</th></tr>\n";
@@ -220,7 +221,7 @@ void SharedAndPairs(const ReportModel& model, std::ostringstream& out) {
   out << "<table><tr><th class=\"name\">transform</th><th>x, y, z (mm)</th><th>roll, pitch, yaw "
          "(°)</th>"
       << "<th>quaternion x, y, z, w</th><th>baseline (mm)</th><th>shared views</th>"
-      << "<th>vs chain through the " << (eye_to_hand ? "base" : "flange")
+      << "<th>vs chain through the " << frames.mount_in_words
       << "<br>Δt (mm) / Δθ (°)</th></tr>\n";
   for (const CameraPairResult& p : result.camera_pairs) {
     TransformRow("T_" + Escape(p.camera_k) + "_" + Escape(p.camera_t), p.T_camk_camt, out);

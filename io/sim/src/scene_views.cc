@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 
+#include "handeye/core/setup_frames.h"
 #include "handeye/sim/synthetic.h"
 
 namespace handeye {
@@ -91,12 +92,8 @@ std::optional<Observation> SeeTarget(const Camera& camera, const Target& target,
 
 Eigen::Isometry3d TargetInCamera(Setup setup, const Eigen::Isometry3d& T_cam, const Eigen::Isometry3d& T_target,
                                  const Eigen::Isometry3d& T_base_ee) {
-  if (setup == Setup::kEyeToHand) {
-    // T_cam = T_base_cam, T_target = T_ee_target.
-    return T_cam.inverse() * T_base_ee * T_target;
-  }
-  // T_cam = T_ee_cam, T_target = T_base_target.
-  return T_cam.inverse() * T_base_ee.inverse() * T_target;
+  // T_cam is T_mount_cam, T_target T_holder_target.
+  return T_cam.inverse() * FramesOf(setup).MountFromHolder(T_base_ee) * T_target;
 }
 
 // ---- Lens distortion --------------------------------------------------------

@@ -3,10 +3,14 @@
 /// @file
 /// Hand-eye calibration of a camera network (SPEC §3, the paper's method).
 ///
-/// Both setups share one chain, p_cam = X_k · M_j · Z · p_target, with
-///  - eye_to_hand: X_k = T_cam_base, M_j = T_base_ee[j], Z = T_ee_target;
-///  - eye_in_hand: X_k = T_cam_ee,   M_j = T_ee_base[j], Z = T_base_target.
-/// The result reports the inverses users want (T_base_cam / T_ee_cam) and Z.
+/// Both setups share one chain (handeye/core/setup_frames.h): the cameras are
+/// fixed to the `mount`, the target to the `holder`, and for camera k at robot pose j
+///   T_camk_target[j] = T_camk_mount · T_mount_holder[j] · T_holder_target,
+///  - eye_to_hand: mount = base, holder = ee,   T_mount_holder[j] = T_base_ee[j];
+///  - eye_in_hand: mount = ee,   holder = base, T_mount_holder[j] = T_ee_base[j].
+/// The paper's X_k, M_j, Z are T_camk_mount, T_mount_holder[j], T_holder_target.
+/// The result reports T_mount_cam (T_base_cam / T_ee_cam, the inverse users
+/// want) as CameraResult::T_cam and T_holder_target as CalibrationResult::T_target.
 
 #include <Eigen/Geometry>
 #include <map>
@@ -20,8 +24,8 @@ namespace handeye {
 
 /// SPEC §7 `--method`.
 enum class Method {
-  kJoint,      ///< the paper: one shared Z, camera-to-camera terms, Cauchy loss
-  kPerCamera,  ///< the same reprojection solve, one Z per camera (Evangelista et al.)
+  kJoint,      ///< the paper: one shared T_holder_target, camera-to-camera terms, Cauchy loss
+  kPerCamera,  ///< the same reprojection solve, one T_holder_target per camera (Evangelista et al.)
   kTsai, kPark, kHoraud, kAndreff, kDaniilidis,  ///< OpenCV calibrateHandEye, per camera
   kShah, kLi,  ///< OpenCV calibrateRobotWorldHandEye, per camera
   /// ViSP vpHandEyeCalibration, per camera. ViSP 3.5 always prints its
@@ -195,15 +199,15 @@ struct ClosedFormComparison {
 };
 
 /// The paper's AX = ZB check (eq. real_metrics) over a camera's used views:
-/// A_j = T_target_cam[j] from PnP on view j alone, B_j = M_j⁻¹, X and Z the
-/// solution; means over the views.
+/// A_j = T_target_cam[j] from PnP on view j alone, B_j = T_holder_mount[j],
+/// X = T_cam_mount and Z = T_holder_target⁻¹ of the solution; means over the views.
 struct AxzbError {
-  /// |t| of A_j·X − Z⁻¹·B_j, both the pose of the camera's mount (base for
+  /// |t| of A_j·X − Z·B_j, both T_target_mount, the pose of the camera's mount (base for
   /// eye_to_hand, ee for eye_in_hand) in the target frame, mm. Measured in the
   /// target frame it includes the lever arm from the target to the mount's
   /// origin (a rotation error of 0.1° moves a point 2 m away by 3.5 mm).
   double target_frame_mm = 0;
-  /// Where view j puts the camera (M_j · Z · A_j) against the solution's
+  /// Where view j puts the camera (T_mount_holder[j] · T_holder_target · A_j) against the solution's
   /// T_mount_cam, mm, in the frame the camera is fixed to: the figure to
   /// compare across tools and cells.
   double camera_frame_mm = 0;
@@ -217,7 +221,7 @@ struct CameraResult {
   bool calibrated = false;  ///< false: the camera never saw the target (reported, not fatal)
   /// eye_to_hand: T_base_cam; eye_in_hand: T_ee_cam.
   Eigen::Isometry3d T_cam = Eigen::Isometry3d::Identity();
-  /// The camera's own Z for methods that estimate one per camera.
+  /// The camera's own T_holder_target for methods that estimate one per camera.
   std::optional<Eigen::Isometry3d> own_T_target;
   double rms_px = 0;       ///< reprojection RMS over the camera's used views, pixels
   int views = 0;           ///< views used

@@ -23,7 +23,7 @@ struct PositionCovariance {
 };
 
 /// Covariance at the transforms in `at` (e.g. the ground truth, or a result)
-/// for pixel noise σ `noise_px`, for the shared-Z model. Uses every point of
+/// for pixel noise σ `noise_px`, for the shared-target model (one T_holder_target). Uses every point of
 /// every observation of the dataset. Throws SolveError when the information
 /// matrix is singular (the problem is not observable).
 PositionCovariance ComputePositionCovariance(const Dataset& dataset, const CalibrationResult& at,

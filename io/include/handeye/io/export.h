@@ -82,6 +82,9 @@ struct ExportOptions {
 
   /// False, with the reason, when a frame name is not valid or two are equal.
   bool Check(std::string* why) const;
+  /// The name given here to a SPEC §2 robot frame, "base" or "ee" (e.g.
+  /// SetupFrames::mount): base_frame or ee_frame.
+  const std::string& RosName(const std::string& frame) const;
 };
 
 /// The pose of a child frame in its parent frame, to publish as a static transform.
