@@ -20,15 +20,15 @@ namespace {
 using internal::Problem;
 using internal::View;
 
-// The estimate of camera k: X_k and the Z it uses.
+// The estimate: each camera's T_cam_mount and the T_holder_target it uses.
 struct Estimate {
-  std::vector<std::optional<Eigen::Isometry3d>> X;
-  std::vector<Eigen::Isometry3d> Z;  // per camera
-  Eigen::Isometry3d shared_Z = Eigen::Isometry3d::Identity();
-  bool per_camera_Z = false;
+  std::vector<std::optional<Eigen::Isometry3d>> T_cam_mount;
+  std::vector<Eigen::Isometry3d> T_holder_target;  // per camera
+  Eigen::Isometry3d shared_T_holder_target = Eigen::Isometry3d::Identity();
+  bool per_camera_target = false;
 };
 
-// One camera's closed-form (X_k, Z_k), or nullopt with the reason.
+// One camera's closed-form (T_cam_mount, T_holder_target), or nullopt with the reason.
 using CameraSolve = std::function<std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>>(
     int camera, std::string* why)>;
 
@@ -39,10 +39,10 @@ Estimate PerCameraEstimate(const Problem& problem, const CameraSolve& solve, con
                            std::vector<std::string>* warnings) {
   const size_t n = problem.camera_views.size();
   Estimate est;
-  est.X.resize(n);
-  est.Z.resize(n, Eigen::Isometry3d::Identity());
-  est.per_camera_Z = true;
-  std::vector<Eigen::Isometry3d> solved_Z;
+  est.T_cam_mount.resize(n);
+  est.T_holder_target.resize(n, Eigen::Isometry3d::Identity());
+  est.per_camera_target = true;
+  std::vector<Eigen::Isometry3d> solved_T_holder_target;
   for (size_t k = 0; k < n; ++k) {
     if (problem.camera_views[k].empty()) continue;
     std::string why;
@@ -52,13 +52,13 @@ Estimate PerCameraEstimate(const Problem& problem, const CameraSolve& solve, con
                           method_name + ": " + why);
       continue;
     }
-    est.X[k] = solved->first;
-    est.Z[k] = solved->second;
-    solved_Z.push_back(solved->second);
+    est.T_cam_mount[k] = solved->first;
+    est.T_holder_target[k] = solved->second;
+    solved_T_holder_target.push_back(solved->second);
   }
-  if (solved_Z.empty())
+  if (solved_T_holder_target.empty())
     throw SolveError("method '" + method_name + "' could not calibrate any camera (see warnings)");
-  est.shared_Z = internal::MeanTransform(solved_Z);
+  est.shared_T_holder_target = internal::MeanTransform(solved_T_holder_target);
   return est;
 }
 
@@ -78,18 +78,18 @@ void FillResult(const Problem& problem, const Estimate& est, CalibrationResult* 
   for (size_t k = 0; k < dataset.cameras.size(); ++k) {
     CameraResult cam;
     cam.name = dataset.cameras[k].name;
-    cam.calibrated = est.X[k].has_value();
+    cam.calibrated = est.T_cam_mount[k].has_value();
     for (const View& view : problem.views)
       if (view.camera == static_cast<int>(k)) (view.used ? cam.views : cam.views_rejected) += 1;
     if (cam.calibrated) {
-      cam.T_cam = est.X[k]->inverse();
-      if (est.per_camera_Z) cam.own_T_target = est.Z[k];
+      cam.T_cam = est.T_cam_mount[k]->inverse();
+      if (est.per_camera_target) cam.own_T_target = est.T_holder_target[k];
     } else if (cam.views == 0) {
       result->warnings.push_back("camera '" + cam.name + "' never saw the target: not calibrated");
     }
     result->cameras.push_back(cam);
   }
-  result->T_target = est.shared_Z;
+  result->T_target = est.shared_T_holder_target;
 }
 
 /// For each camera, the groups the intrinsics check looks at: focal length
@@ -160,24 +160,28 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   if (options.method == Method::kJoint) {
     internal::Initialisation init = internal::InitialiseJoint(problem);
     result.notes.insert(result.notes.end(), init.notes.begin(), init.notes.end());
-    init.fixed_X.assign(num_cameras, false);
+    init.fixed_T_cam_mount.assign(num_cameras, false);
     for (const auto& [name, T_cam] : options.fixed_cameras) {
       const int k = dataset.CameraIndex(name);
-      if (!init.X[k]) continue;  // no views: nothing to hold
-      init.X[k] = T_cam.inverse();
-      init.fixed_X[k] = true;
+      if (!init.T_cam_mount[k]) continue;  // no views: nothing to hold
+      init.T_cam_mount[k] = T_cam.inverse();
+      init.fixed_T_cam_mount[k] = true;
     }
     if (!options.fixed_cameras.empty()) {
       // The target transform from the held cameras' views, so the others start consistent.
-      std::vector<Eigen::Isometry3d> Z_estimates;
+      std::vector<Eigen::Isometry3d> T_holder_target_estimates;
       for (size_t k = 0; k < num_cameras; ++k)
-        if (init.fixed_X[k])
-          if (const auto Z = internal::TargetGivenCamera(problem, static_cast<int>(k), *init.X[k])) Z_estimates.push_back(*Z);
-      if (!Z_estimates.empty()) {
-        init.Z = internal::MeanTransform(Z_estimates);
+        if (init.fixed_T_cam_mount[k])
+          if (const auto T_holder_target =
+                  internal::TargetGivenCamera(problem, static_cast<int>(k), *init.T_cam_mount[k]))
+            T_holder_target_estimates.push_back(*T_holder_target);
+      if (!T_holder_target_estimates.empty()) {
+        init.T_holder_target = internal::MeanTransform(T_holder_target_estimates);
         for (size_t k = 0; k < num_cameras; ++k)
-          if (init.X[k] && !init.fixed_X[k])
-            if (const auto X = internal::CameraGivenTarget(problem, static_cast<int>(k), init.Z)) init.X[k] = *X;
+          if (init.T_cam_mount[k] && !init.fixed_T_cam_mount[k])
+            if (const auto T_cam_mount =
+                    internal::CameraGivenTarget(problem, static_cast<int>(k), init.T_holder_target))
+              init.T_cam_mount[k] = *T_cam_mount;
         result.notes.push_back(std::to_string(options.fixed_cameras.size()) +
                                " camera(s) held at their given poses; the others and the target transform solved");
       }
@@ -208,8 +212,8 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     // start that is far off is then solved nearly as least squares, and the
     // scale narrows once the residuals are known.
     const double first_scale = std::max(
-        1.0, 3.0 * internal::ResidualSigmaPx(problem, init.X,
-                                             internal::TargetPoses(dataset.cameras.size(), init.Z)));
+        1.0, 3.0 * internal::ResidualSigmaPx(problem, init.T_cam_mount,
+                                             internal::TargetPoses(dataset.cameras.size(), init.T_holder_target)));
     std::optional<internal::RobotPrior> robot;
     bool solved_once = false;
     const internal::Refinement refined = internal::RobustSolve(
@@ -218,10 +222,10 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
           CalibrationOptions round = options;
           round.cauchy_scale_px = scale;
           auto warm_start = [&](const internal::Refinement& r) {
-            for (size_t k = 0; k < r.X.size(); ++k)
-              if (r.X[k]) init.X[k] = r.X[k];
-            init.Z = r.Z[0];
-            if (!r.M.empty()) init.M = r.M;
+            for (size_t k = 0; k < r.T_cam_mount.size(); ++k)
+              if (r.T_cam_mount[k]) init.T_cam_mount[k] = r.T_cam_mount[k];
+            init.T_holder_target = r.T_holder_target[0];
+            if (!r.T_mount_holder.empty()) init.T_mount_holder = r.T_mount_holder;
           };
           // The robot's pose error: as given, or estimated from the last
           // solution (the first round solves with exact poses first).
@@ -233,15 +237,15 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
               warm_start(refine(round, std::nullopt));
               solved_once = true;
             }
-            const internal::TargetPoses Z_now(dataset.cameras.size(), init.Z);
-            robot = internal::EstimateRobotPrior(problem, init.X, Z_now);
+            const internal::TargetPoses T_holder_target_now(dataset.cameras.size(), init.T_holder_target);
+            robot = internal::EstimateRobotPrior(problem, init.T_cam_mount, T_holder_target_now);
             // Intrinsics that do not fit raise the chain's residuals too, and
             // pose blocks would absorb that misfit (METRIC as published: its
             // principal points are 1–3 px off). Where the views say the given
             // focal length or principal point is off even with the robot's
             // error modelled, only a clear excess (2× PnP's) counts as the robot's.
             if (robot && robot->chain_to_pnp < 2.0 &&
-                !internal::IntrinsicsWarnings(problem, init.X, Z_now, scale,
+                !internal::IntrinsicsWarnings(problem, init.T_cam_mount, T_holder_target_now, scale,
                                               UnrefinedIntrinsics(init.free_intrinsics, num_cameras), robot)
                      .empty())
               robot.reset();
@@ -263,8 +267,8 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
            << robot->pixel_sigma_px << " px";
       result.notes.push_back(note.str());
     }
-    est.X = refined.X;
-    est.shared_Z = refined.Z[0];
+    est.T_cam_mount = refined.T_cam_mount;
+    est.shared_T_holder_target = refined.T_holder_target[0];
     // How well the solution is known: the same problem at the solution.
     CalibrationOptions final_options = options;
     final_options.cauchy_scale_px = refined.summary.cauchy_scale_px;
@@ -272,12 +276,13 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
         internal::RefineJoint(problem, init, final_options, robot, internal::JointStep::kCovariance);
     if (options.cross_validate) internal::CrossValidate(problem, init, final_options, robot, &camera_validation);
     for (size_t k = 0; k < num_cameras; ++k)
-      if (est.X[k] && covariance.X_covariance[k])
-        camera_sigma[k] = internal::UncertaintyOf(*est.X[k], *covariance.X_covariance[k], true);
-    if (covariance.Z_covariance)
-      result.target_sigma = internal::UncertaintyOf(est.shared_Z, *covariance.Z_covariance, false);
+      if (est.T_cam_mount[k] && covariance.T_cam_mount_covariance[k])
+        camera_sigma[k] = internal::UncertaintyOf(*est.T_cam_mount[k], *covariance.T_cam_mount_covariance[k], true);
+    if (covariance.T_holder_target_covariance)
+      result.target_sigma =
+          internal::UncertaintyOf(est.shared_T_holder_target, *covariance.T_holder_target_covariance, false);
     for (size_t k = 0; k < num_cameras; ++k) {
-      if (init.free_intrinsics[k].empty() || !est.X[k]) continue;  // no views: nothing refined
+      if (init.free_intrinsics[k].empty() || !est.T_cam_mount[k]) continue;  // no views: nothing refined
       for (int p : internal::UndeterminedIntrinsics(start_cameras[k], covariance.intrinsics_sigma[k],
                                                     init.free_intrinsics[k])) {
         if (estimated[k] && p < 4)
@@ -322,7 +327,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     }
   } else if (options.method == Method::kPerCamera) {
     // Each camera on its own: a closed form that prints nothing (on diverse
-    // views) then the reprojection solve with its own Z over all views.
+    // views) then the reprojection solve with its own T_holder_target over all views.
     const Problem diverse = internal::WithDiverseViews(problem, 12);
     est = PerCameraEstimate(
         diverse,
@@ -332,25 +337,25 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
         },
         MethodName(options.method), &result.warnings);
     const double first_scale =
-        std::max(1.0, 3.0 * internal::ResidualSigmaPx(problem, est.X, est.Z));
+        std::max(1.0, 3.0 * internal::ResidualSigmaPx(problem, est.T_cam_mount, est.T_holder_target));
     const internal::Refinement refined = internal::RobustSolve(
         &problem, options, first_scale,
         [&](double scale) {
           CalibrationOptions round = options;
           round.cauchy_scale_px = scale;
-          internal::Refinement r = internal::RefinePerCamera(problem, est.X, est.Z, round);
-          for (size_t k = 0; k < r.X.size(); ++k)
-            if (r.X[k]) est.X[k] = r.X[k];
-          est.Z = r.Z;
+          internal::Refinement r = internal::RefinePerCamera(problem, est.T_cam_mount, est.T_holder_target, round);
+          for (size_t k = 0; k < r.T_cam_mount.size(); ++k)
+            if (r.T_cam_mount[k]) est.T_cam_mount[k] = r.T_cam_mount[k];
+          est.T_holder_target = r.T_holder_target;
           return r;
         },
         &result.warnings);
-    est.X = refined.X;
-    est.Z = refined.Z;
+    est.T_cam_mount = refined.T_cam_mount;
+    est.T_holder_target = refined.T_holder_target;
     std::vector<Eigen::Isometry3d> solved;
-    for (size_t k = 0; k < est.X.size(); ++k)
-      if (est.X[k]) solved.push_back(est.Z[k]);
-    est.shared_Z = internal::MeanTransform(solved);
+    for (size_t k = 0; k < est.T_cam_mount.size(); ++k)
+      if (est.T_cam_mount[k]) solved.push_back(est.T_holder_target[k]);
+    est.shared_T_holder_target = internal::MeanTransform(solved);
     result.solver = refined.summary;
   } else {
     est = PerCameraEstimate(
@@ -368,24 +373,24 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
         " iterations) while the estimate was still moving by more than " +
         std::to_string(options.step_tolerance_mm) + " mm / " + std::to_string(options.step_tolerance_deg) +
         " deg per iteration; the result is written but may not be final");
-  internal::TargetPoses Z(dataset.cameras.size(), est.shared_Z);
-  if (est.per_camera_Z) Z = est.Z;
-  internal::ExplainInconsistentViews(&problem, est.X, Z);
+  internal::TargetPoses T_holder_target(dataset.cameras.size(), est.shared_T_holder_target);
+  if (est.per_camera_target) T_holder_target = est.T_holder_target;
+  internal::ExplainInconsistentViews(&problem, est.T_cam_mount, T_holder_target);
   for (const View& view : problem.views)
     if (!view.used)
       result.warnings.push_back("view of pose '" + view.observation->pose_id + "' by camera '" +
                                 view.observation->camera + "' left out: " + view.rejected_because);
-  const auto pose_warnings = internal::PoseRecordWarnings(problem, est.X, Z);
+  const auto pose_warnings = internal::PoseRecordWarnings(problem, est.T_cam_mount, T_holder_target);
   result.warnings.insert(result.warnings.end(), pose_warnings.begin(), pose_warnings.end());
   // Pairs for the methods without pair parameters: chained through the base.
   if (result.camera_pairs.empty() && options.method != Method::kJoint) {
-    for (size_t k = 0; k < est.X.size(); ++k)
-      for (size_t t = k + 1; t < est.X.size(); ++t) {
-        if (!est.X[k] || !est.X[t]) continue;
+    for (size_t k = 0; k < est.T_cam_mount.size(); ++k)
+      for (size_t t = k + 1; t < est.T_cam_mount.size(); ++t) {
+        if (!est.T_cam_mount[k] || !est.T_cam_mount[t]) continue;
         CameraPairResult p;
         p.camera_k = dataset.cameras[k].name;
         p.camera_t = dataset.cameras[t].name;
-        p.T_camk_camt = *est.X[k] * est.X[t]->inverse();
+        p.T_camk_camt = *est.T_cam_mount[k] * est.T_cam_mount[t]->inverse();
         result.camera_pairs.push_back(p);
       }
   }
@@ -396,12 +401,12 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     if (camera_validation[k].folds > 0) result.cameras[k].cross_validation = camera_validation[k];
   if (options.check_intrinsics) {
     // Focal length and principal point not refined: do the views agree with them?
-    const auto intrinsics_warnings =
-        internal::IntrinsicsWarnings(problem, est.X, Z, std::max(1.0, result.solver.cauchy_scale_px),
-                                     UnrefinedIntrinsics(free_intrinsics, num_cameras), robot_model);
+    const auto intrinsics_warnings = internal::IntrinsicsWarnings(
+        problem, est.T_cam_mount, T_holder_target, std::max(1.0, result.solver.cauchy_scale_px),
+        UnrefinedIntrinsics(free_intrinsics, num_cameras), robot_model);
     result.warnings.insert(result.warnings.end(), intrinsics_warnings.begin(), intrinsics_warnings.end());
   }
-  const auto quality = internal::DiagnoseSolution(problem, est.X, Z, options, &result);
+  const auto quality = internal::DiagnoseSolution(problem, est.T_cam_mount, T_holder_target, options, &result);
   result.warnings.insert(result.warnings.end(), quality.begin(), quality.end());
   result.options = options;
   result.handeye_version = HANDEYE_VERSION;

@@ -36,10 +36,10 @@ struct View {
   bool inconsistent = false;
 };
 
-/// The dataset in the solver's terms: M_j per pose and the views.
+/// The dataset in the solver's terms: T_mount_holder per pose and the views.
 struct Problem {
   const Dataset* dataset = nullptr;
-  std::vector<Eigen::Isometry3d> M;              ///< per pose, see calibration.h
+  std::vector<Eigen::Isometry3d> T_mount_holder;  ///< per pose, SetupFrames::MountFromHolder
   std::vector<View> views;                       ///< every observation
   std::vector<std::vector<int>> camera_views;    ///< used view indices per camera
 };
@@ -53,41 +53,41 @@ void IndexUsedViews(Problem* problem);
 /// The robot-motion vote, before any estimate: for two views a, b of one
 /// camera, the target's motion seen by the camera (T_cam_target[a] ·
 /// T_cam_target[b]⁻¹) and the robot's motion (M_a · M_b⁻¹) are conjugate
-/// (X_k between them), so their rotation angles and screw pitches agree
-/// whatever X_k and Z are. A view that agrees with fewer than half of the
+/// (T_cam_mount between them), so their rotation angles and screw pitches agree
+/// whatever T_cam_mount and T_holder_target are. A view that agrees with fewer than half of the
 /// camera's other views, where most views agree with most, is excluded: its
 /// robot record belongs to another pose, or its image to another time.
 /// Returns the number of views excluded.
 int RejectInconsistentMotions(Problem* problem);
 
-/// Per camera: the Z its views use (joint: the shared one for every camera).
+/// Per camera: the T_holder_target its views use (joint: the shared one for every camera).
 using TargetPoses = std::vector<Eigen::Isometry3d>;
 
 /// Used views whose RMS through the solution lies far outside the robust
 /// distribution of view RMS (per camera where it has five views or more):
 /// above max(median + 8·1.4826·MAD, 4·median, 0.5 px).
 std::vector<int> ViewsOffTheSolution(const Problem& problem,
-                                     const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                                     const TargetPoses& Z);
+                                     const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                                     const TargetPoses& T_holder_target);
 
 /// σ (pixels, per image axis) of the reprojection residuals of the used
 /// views, from their median (robust to a few bad points).
-double ResidualSigmaPx(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                       const TargetPoses& Z);
+double ResidualSigmaPx(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                       const TargetPoses& T_holder_target);
 
 /// Views excluded as inconsistent that fit the solution with the target turned
 /// over (a half turn about an axis in its plane) are a see-through target read
 /// from behind, whose mirrored pattern PnP takes for a front view: says so.
-void ExplainInconsistentViews(Problem* problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                              const TargetPoses& Z);
+void ExplainInconsistentViews(Problem* problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                              const TargetPoses& T_holder_target);
 
 /// One warning per robot pose all of whose views were excluded as
 /// inconsistent: the pose record and the images likely do not belong together.
 std::vector<std::string> PoseRecordWarnings(const Problem& problem,
-                                            const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                                            const TargetPoses& Z);
+                                            const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                                            const TargetPoses& T_holder_target);
 
-/// Throws SolveError when the used views' robot motions cannot determine Z
+/// Throws SolveError when the used views' robot motions cannot determine T_holder_target
 /// (fewer than two motions with non-parallel rotation axes, or tiny rotations).
 /// `cameras` limits the check to those cameras (empty: all).
 void CheckMotionDiversity(const Problem& problem, const std::vector<int>& cameras = {});
@@ -97,16 +97,18 @@ std::string MotionDiversityProblem(const Problem& problem, const std::vector<int
 /// Chordal L2 mean of rotations and mean of translations.
 Eigen::Isometry3d MeanTransform(const std::vector<Eigen::Isometry3d>& transforms);
 
-/// Camera k's X_k given Z, from its PnP views (consensus of T_cam_target · Z⁻¹ · M_j⁻¹).
+/// Camera k's T_cam_mount given T_holder_target, from its PnP views (consensus of
+/// T_cam_target · T_target_holder · T_holder_mount[j]).
 /// (Not a T_cam_target: sim's TrueCameraFromTarget is that.)
 std::optional<Eigen::Isometry3d> CameraGivenTarget(const Problem& problem, int camera,
-                                                   const Eigen::Isometry3d& Z);
-/// Z given camera k's X_k, from its PnP views (consensus of M_j⁻¹ · X_k⁻¹ · T_cam_target).
+                                                   const Eigen::Isometry3d& T_holder_target);
+/// T_holder_target given camera k's T_cam_mount, from its PnP views (consensus of
+/// T_holder_mount[j] · T_mount_cam · T_cam_target).
 std::optional<Eigen::Isometry3d> TargetGivenCamera(const Problem& problem, int camera,
-                                                   const Eigen::Isometry3d& X);
+                                                   const Eigen::Isometry3d& T_cam_mount);
 
 /// Closed-form hand-eye of one camera with a baseline method (tsai … li, visp).
-/// Returns (X_k, Z_k) or nullopt with the reason in *why.
+/// Returns (T_cam_mount, T_holder_target) of the camera or nullopt with the reason in *why.
 std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> ClosedFormHandEye(
     const Problem& problem, int camera, Method method, std::string* why);
 
@@ -117,7 +119,7 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> ClosedFormHandEye
 std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> SilentClosedFormHandEye(
     const Problem& problem, int camera, std::string* chosen, std::string* why);
 
-/// Linear AX = XB over the motions of all cameras at once (shared Z), for
+/// Linear AX = XB over the motions of all cameras at once (shared T_holder_target), for
 /// cameras whose own motions are too few for a per-camera solve.
 std::optional<Eigen::Isometry3d> SharedTargetClosedForm(const Problem& problem);
 
@@ -126,10 +128,11 @@ std::optional<Eigen::Isometry3d> SharedTargetClosedForm(const Problem& problem);
 /// closed forms cost far more than linearly in views, and need diversity, not bulk.
 Problem WithDiverseViews(const Problem& problem, size_t max_views);
 
-/// Initial X (per camera, nullopt for cameras without views) and Z for the joint solve.
+/// Initial T_cam_mount (per camera, nullopt for cameras without views) and
+/// T_holder_target for the joint solve.
 struct Initialisation {
-  std::vector<std::optional<Eigen::Isometry3d>> X;
-  Eigen::Isometry3d Z = Eigen::Isometry3d::Identity();
+  std::vector<std::optional<Eigen::Isometry3d>> T_cam_mount;
+  Eigen::Isometry3d T_holder_target = Eigen::Isometry3d::Identity();
   std::vector<std::string> notes;
   /// Per camera, the intrinsics (OpenCVCameraModel indices) that are unknowns
   /// of the joint solve, started from the problem's cameras; empty: fixed.
@@ -138,39 +141,40 @@ struct Initialisation {
   /// pixel σ that weighs the prior against the reprojection residuals.
   std::vector<Camera> given_cameras;
   double pixel_sigma_px = 1.0;
-  /// Per camera: X_k is held at its start (CalibrationOptions::fixed_cameras).
-  std::vector<bool> fixed_X;
+  /// Per camera: its T_cam_mount is held at its start (CalibrationOptions::fixed_cameras).
+  std::vector<bool> fixed_T_cam_mount;
   /// With a robot prior: per pose, the start of its block (empty: the reported pose).
-  std::vector<std::optional<Eigen::Isometry3d>> M;
+  std::vector<std::optional<Eigen::Isometry3d>> T_mount_holder;
 };
 Initialisation InitialiseJoint(const Problem& problem);
 
-/// Median over used views of the per-view RMS reprojection error for (X, Z).
-double MedianViewRms(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                     const Eigen::Isometry3d& Z);
+/// Median over used views of the per-view RMS reprojection error for (T_cam_mount, T_holder_target).
+double MedianViewRms(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                     const Eigen::Isometry3d& T_holder_target);
 
-/// Reprojection errors (pixels) of one view's points through X · M_j · Z.
-std::vector<double> ViewErrors(const Problem& problem, const View& view, const Eigen::Isometry3d& X,
-                               const Eigen::Isometry3d& Z);
+/// Reprojection errors (pixels) of one view's points through
+/// T_cam_mount · T_mount_holder[j] · T_holder_target.
+std::vector<double> ViewErrors(const Problem& problem, const View& view, const Eigen::Isometry3d& T_cam_mount,
+                               const Eigen::Isometry3d& T_holder_target);
 
 /// Output of a nonlinear refinement.
 struct Refinement {
-  std::vector<std::optional<Eigen::Isometry3d>> X;
-  std::vector<Eigen::Isometry3d> Z;  ///< one (joint) or one per camera (per-camera)
+  std::vector<std::optional<Eigen::Isometry3d>> T_cam_mount;
+  std::vector<Eigen::Isometry3d> T_holder_target;          ///< one (joint) or one per camera (per-camera)
   std::map<std::pair<int, int>, Eigen::Isometry3d> pairs;  ///< (k, t) → T_camk_camt
   SolverSummary summary;
   /// With a robot prior: per pose, the solved robot pose (nullopt for poses without views).
-  std::vector<std::optional<Eigen::Isometry3d>> M;
+  std::vector<std::optional<Eigen::Isometry3d>> T_mount_holder;
   /// Per camera (joint solve): the intrinsics after the solve.
   std::vector<std::array<double, OpenCVCameraModel::kNumParams>> intrinsics;
   /// JointStep::kCovariance: 1σ of the free intrinsics (scaled by the
   /// residuals seen; 0 for fixed ones, infinite when the views cannot
-  /// determine them at all), and the tangent-space covariance of each X_k and
-  /// of Z (Ceres' quaternion-manifold tangent then translation; empty when
+  /// determine them at all), and the tangent-space covariance of each
+  /// T_cam_mount and of T_holder_target (Ceres' quaternion-manifold tangent then translation; empty when
   /// the Jacobian is rank deficient).
   std::vector<std::array<double, OpenCVCameraModel::kNumParams>> intrinsics_sigma;
-  std::vector<std::optional<Eigen::Matrix<double, 6, 6>>> X_covariance;
-  std::optional<Eigen::Matrix<double, 6, 6>> Z_covariance;
+  std::vector<std::optional<Eigen::Matrix<double, 6, 6>>> T_cam_mount_covariance;
+  std::optional<Eigen::Matrix<double, 6, 6>> T_holder_target_covariance;
 };
 
 /// The uncertainty of pose P = T (or T⁻¹ with `invert`) from the
@@ -194,23 +198,23 @@ struct RobotPrior {
 /// what their PnP fit leaves (2n − 6 degrees of freedom for n points).
 double DetectionSigmaPx(const Problem& problem);
 
-/// The robot's pose error as the views show it through (X, Z): nullopt when
+/// The robot's pose error as the views show it through the chain: nullopt when
 /// the residuals through the chain are not clearly above PnP's (over 1.2×;
 /// the robot is then as exact as the images can tell); else σ of the flange's
 /// displacement across the viewing rays and of its rotation, from the medians
 /// of where PnP and the chain put the target, less PnP's own noise there.
 std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
-                                             const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                                             const TargetPoses& Z);
+                                             const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                                             const TargetPoses& T_holder_target);
 
-/// The paper's joint solve: shared Z, optional c_cross terms; with `robot`,
+/// The paper's joint solve: shared T_holder_target, optional c_cross terms; with `robot`,
 /// every robot pose is a block of the solve too, under its prior.
 Refinement RefineJoint(const Problem& problem, const Initialisation& init,
                        const CalibrationOptions& options, const std::optional<RobotPrior>& robot = std::nullopt,
                        JointStep step = JointStep::kSolve);
-/// One Z per camera, no cross terms (for --method per-camera).
-Refinement RefinePerCamera(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                           const std::vector<Eigen::Isometry3d>& Z, const CalibrationOptions& options);
+/// One T_holder_target per camera, no cross terms (for --method per-camera).
+Refinement RefinePerCamera(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                           const std::vector<Eigen::Isometry3d>& T_holder_target, const CalibrationOptions& options);
 
 /// The intrinsics (OpenCVCameraModel indices) of `camera` that the groups
 /// (IntrinsicsGroup flags) make unknowns: distortion is k1, k2, p1, p2 and
@@ -250,21 +254,21 @@ Camera EstimateIntrinsics(const Dataset& dataset, int k);
 void RecomputePnp(Problem* problem, double max_rms_px);
 
 /// The check of the given intrinsics after a solve: per camera, fx, fy, cx,
-/// cy as the camera's views alone say (X_k, its own Z and those four free); a
+/// cy as the camera's views alone say (its T_cam_mount, its own T_holder_target and
+/// those four free); a
 /// warning where a group in `check[k]` (kFocal, kPrincipalPoint) differs from
 /// the given values by more than 3σ and by a visible amount (0.3 % of the
 /// focal length, 0.5 px).
 /// With `robot`, each robot pose is a block under that prior, as in the joint solve.
 std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
-                                            const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                                            const TargetPoses& Z, double cauchy_scale_px,
-                                            const std::vector<unsigned>& check,
-                                            const std::optional<RobotPrior>& robot);
+                                            const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                                            const TargetPoses& T_holder_target, double cauchy_scale_px,
+                                            const std::vector<unsigned>& check, const std::optional<RobotPrior>& robot);
 
 /// RMS of a view's point errors (pixels), and the largest in *max_error (may be null).
 double ViewRms(const std::vector<double>& errors, double* max_error = nullptr);
 
-/// Per camera, the Z its views use (one shared Z, or one per camera).
+/// Per camera, the T_holder_target its views use (one shared, or one per camera).
 TargetPoses TargetPosesOf(const Refinement& refined, size_t num_cameras);
 
 /// The nonlinear solve made robust: `solve(scale)` runs one refinement

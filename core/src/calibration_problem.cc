@@ -136,7 +136,7 @@ Problem BuildProblem(const Dataset& dataset, const CalibrationOptions& options) 
   Problem problem;
   problem.dataset = &dataset;
   const SetupFrames frames = FramesOf(dataset.setup);
-  for (const auto& pose : dataset.poses) problem.M.push_back(frames.MountFromHolder(pose.T_base_ee));
+  for (const auto& pose : dataset.poses) problem.T_mount_holder.push_back(frames.MountFromHolder(pose.T_base_ee));
   problem.camera_views.resize(dataset.cameras.size());
   std::set<std::pair<int, int>> seen;
   for (const auto& obs : dataset.observations) {
@@ -257,31 +257,31 @@ Eigen::Isometry3d ConsensusTransform(const std::vector<Eigen::Isometry3d>& estim
 }  // namespace
 
 std::optional<Eigen::Isometry3d> CameraGivenTarget(const Problem& problem, int camera,
-                                                   const Eigen::Isometry3d& Z) {
+                                                   const Eigen::Isometry3d& T_holder_target) {
   std::vector<Eigen::Isometry3d> estimates;
   for (int v : problem.camera_views[camera]) {
     const View& view = problem.views[v];
-    estimates.push_back(*view.T_cam_target * Z.inverse() * problem.M[view.pose].inverse());
+    estimates.push_back(*view.T_cam_target * T_holder_target.inverse() * problem.T_mount_holder[view.pose].inverse());
   }
   if (estimates.empty()) return std::nullopt;
   return ConsensusTransform(estimates);
 }
 
 std::optional<Eigen::Isometry3d> TargetGivenCamera(const Problem& problem, int camera,
-                                                   const Eigen::Isometry3d& X) {
+                                                   const Eigen::Isometry3d& T_cam_mount) {
   std::vector<Eigen::Isometry3d> estimates;
   for (int v : problem.camera_views[camera]) {
     const View& view = problem.views[v];
-    estimates.push_back(problem.M[view.pose].inverse() * X.inverse() * *view.T_cam_target);
+    estimates.push_back(problem.T_mount_holder[view.pose].inverse() * T_cam_mount.inverse() * *view.T_cam_target);
   }
   if (estimates.empty()) return std::nullopt;
   return ConsensusTransform(estimates);
 }
 
-std::vector<double> ViewErrors(const Problem& problem, const View& view, const Eigen::Isometry3d& X,
-                               const Eigen::Isometry3d& Z) {
+std::vector<double> ViewErrors(const Problem& problem, const View& view, const Eigen::Isometry3d& T_cam_mount,
+                               const Eigen::Isometry3d& T_holder_target) {
   const Camera& camera = problem.dataset->cameras[view.camera];
-  const Eigen::Isometry3d T_cam_target = X * problem.M[view.pose] * Z;
+  const Eigen::Isometry3d T_cam_target = T_cam_mount * problem.T_mount_holder[view.pose] * T_holder_target;
   std::vector<double> errors;
   for (size_t i = 0; i < view.p_target.size(); ++i) {
     const auto uv = camera.Project(T_cam_target * view.p_target[i]);
@@ -290,13 +290,13 @@ std::vector<double> ViewErrors(const Problem& problem, const View& view, const E
   return errors;
 }
 
-double MedianViewRms(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                     const Eigen::Isometry3d& Z) {
+double MedianViewRms(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                     const Eigen::Isometry3d& T_holder_target) {
   std::vector<double> rms;
   for (const View& view : problem.views) {
-    if (!view.used || !X[view.camera]) continue;
+    if (!view.used || !T_cam_mount[view.camera]) continue;
     double sum = 0;
-    const auto errors = ViewErrors(problem, view, *X[view.camera], Z);
+    const auto errors = ViewErrors(problem, view, *T_cam_mount[view.camera], T_holder_target);
     for (double e : errors) sum += e * e;
     rms.push_back(std::sqrt(sum / errors.size()));
   }

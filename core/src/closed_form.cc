@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Closed-form hand-eye: the adapters to OpenCV and ViSP (the only place their
-// frame names appear), a linear shared-Z solve over all cameras, and the
+// frame names appear), a linear shared-target solve over all cameras, and the
 // initialisation of the joint solve.
 #include <visp3/core/vpHomogeneousMatrix.h>
 #include <visp3/vision/vpHandEyeCalibration.h>
@@ -106,8 +106,8 @@ class SilencedStdout {
 };
 
 // ViSP solves rMe[j] · eMc · cMo[j] = const. eye_in_hand is its native case
-// (eMc = T_ee_cam = X⁻¹); for eye_to_hand the target rides on the robot, so
-// eMc = T_ee_target = Z with cMo = T_target_cam.
+// (rMe = T_holder_mount, eMc = T_mount_cam); for eye_to_hand the target rides
+// on the robot, so rMe = T_mount_holder and eMc = T_holder_target with cMo = T_target_cam.
 std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> VispHandEye(const Problem& problem,
                                                                            int camera,
                                                                            std::string* why) {
@@ -116,10 +116,10 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> VispHandEye(const
   for (int v : problem.camera_views[camera]) {
     const View& view = problem.views[v];
     if (eye_to_hand) {
-      rMe.push_back(ToVisp(problem.M[view.pose]));
+      rMe.push_back(ToVisp(problem.T_mount_holder[view.pose]));
       cMo.push_back(ToVisp(view.T_cam_target->inverse()));
     } else {
-      rMe.push_back(ToVisp(problem.M[view.pose].inverse()));
+      rMe.push_back(ToVisp(problem.T_mount_holder[view.pose].inverse()));
       cMo.push_back(ToVisp(*view.T_cam_target));
     }
   }
@@ -138,23 +138,23 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> VispHandEye(const
     return std::nullopt;
   }
   if (eye_to_hand) {
-    const auto X = CameraGivenTarget(problem, camera, *solved);
-    return std::make_pair(*X, *solved);
+    const auto T_cam_mount = CameraGivenTarget(problem, camera, *solved);
+    return std::make_pair(*T_cam_mount, *solved);
   }
-  const Eigen::Isometry3d X = solved->inverse();
-  return std::make_pair(X, *TargetGivenCamera(problem, camera, X));
+  const Eigen::Isometry3d T_cam_mount = solved->inverse();
+  return std::make_pair(T_cam_mount, *TargetGivenCamera(problem, camera, T_cam_mount));
 }
 
-// Both setups map onto OpenCV's eye-in-hand form by passing M⁻¹ as
-// "gripper2base": M_j⁻¹ · X⁻¹ · T_cam_target[j] = Z for every j.
+// Both setups map onto OpenCV's eye-in-hand form by passing T_holder_mount as
+// "gripper2base": T_holder_mount[j] · T_mount_cam · T_cam_target[j] = T_holder_target for every j.
 std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> OpenCvHandEye(
     const Problem& problem, int camera, cv::HandEyeCalibrationMethod method, std::string* why) {
   std::vector<cv::Mat> R_gripper2base, t_gripper2base, R_target2cam, t_target2cam;
   for (int v : problem.camera_views[camera]) {
     const View& view = problem.views[v];
-    const Eigen::Isometry3d M_inv = problem.M[view.pose].inverse();
-    R_gripper2base.push_back(RotationToCv(M_inv));
-    t_gripper2base.push_back(TranslationToCv(M_inv));
+    const Eigen::Isometry3d T_holder_mount = problem.T_mount_holder[view.pose].inverse();
+    R_gripper2base.push_back(RotationToCv(T_holder_mount));
+    t_gripper2base.push_back(TranslationToCv(T_holder_mount));
     R_target2cam.push_back(RotationToCv(*view.T_cam_target));
     t_target2cam.push_back(TranslationToCv(*view.T_cam_target));
   }
@@ -166,17 +166,17 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> OpenCvHandEye(
     *why = std::string("OpenCV calibrateHandEye failed: ") + e.what();
     return std::nullopt;
   }
-  const auto X_inv = FromCv(R_cam2gripper, t_cam2gripper);
-  if (!X_inv) {
+  const auto T_mount_cam = FromCv(R_cam2gripper, t_cam2gripper);
+  if (!T_mount_cam) {
     *why = "OpenCV calibrateHandEye returned no rigid transform (NaN or degenerate)";
     return std::nullopt;
   }
-  const Eigen::Isometry3d X = X_inv->inverse();
-  return std::make_pair(X, *TargetGivenCamera(problem, camera, X));
+  const Eigen::Isometry3d T_cam_mount = T_mount_cam->inverse();
+  return std::make_pair(T_cam_mount, *TargetGivenCamera(problem, camera, T_cam_mount));
 }
 
 // OpenCV's robot-world form cTw · wTb = cTg · gTb with c = target, w = camera,
-// g·b = M⁻¹: T_target_cam[j] · X = Z⁻¹ · M_j⁻¹.
+// g·b = T_holder_mount: T_target_cam[j] · T_cam_mount = T_target_holder · T_holder_mount[j].
 std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> OpenCvRobotWorld(
     const Problem& problem, int camera, cv::RobotWorldHandEyeCalibrationMethod method,
     std::string* why) {
@@ -184,11 +184,11 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> OpenCvRobotWorld(
   for (int v : problem.camera_views[camera]) {
     const View& view = problem.views[v];
     const Eigen::Isometry3d T_target_cam = view.T_cam_target->inverse();
-    const Eigen::Isometry3d M_inv = problem.M[view.pose].inverse();
+    const Eigen::Isometry3d T_holder_mount = problem.T_mount_holder[view.pose].inverse();
     R_world2cam.push_back(RotationToCv(T_target_cam));
     t_world2cam.push_back(TranslationToCv(T_target_cam));
-    R_base2gripper.push_back(RotationToCv(M_inv));
-    t_base2gripper.push_back(TranslationToCv(M_inv));
+    R_base2gripper.push_back(RotationToCv(T_holder_mount));
+    t_base2gripper.push_back(TranslationToCv(T_holder_mount));
   }
   cv::Mat R_base2world, t_base2world, R_gripper2cam, t_gripper2cam;
   try {
@@ -198,13 +198,13 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> OpenCvRobotWorld(
     *why = std::string("OpenCV calibrateRobotWorldHandEye failed: ") + e.what();
     return std::nullopt;
   }
-  const auto X = FromCv(R_base2world, t_base2world);
-  const auto Z_inv = FromCv(R_gripper2cam, t_gripper2cam);
-  if (!X || !Z_inv) {
+  const auto T_cam_mount = FromCv(R_base2world, t_base2world);
+  const auto T_target_holder = FromCv(R_gripper2cam, t_gripper2cam);
+  if (!T_cam_mount || !T_target_holder) {
     *why = "OpenCV calibrateRobotWorldHandEye returned no rigid transform (NaN or degenerate)";
     return std::nullopt;
   }
-  return std::make_pair(*X, Z_inv->inverse());
+  return std::make_pair(*T_cam_mount, T_target_holder->inverse());
 }
 
 }  // namespace
@@ -241,7 +241,7 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> SilentClosedFormH
   // this camera's views best. Both are OpenCV's and print nothing.
   std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> best;
   double best_score = std::numeric_limits<double>::infinity();
-  std::vector<std::optional<Eigen::Isometry3d>> X(problem.camera_views.size());
+  std::vector<std::optional<Eigen::Isometry3d>> T_cam_mount(problem.camera_views.size());
   for (const Method method : {Method::kPark, Method::kTsai}) {
     std::string failed;
     const auto solved = ClosedFormHandEye(problem, camera, method, &failed);
@@ -249,8 +249,8 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> SilentClosedFormH
       if (!best) *why = failed;
       continue;
     }
-    X[camera] = solved->first;
-    const double score = MedianViewRms(problem, X, solved->second);
+    T_cam_mount[camera] = solved->first;
+    const double score = MedianViewRms(problem, T_cam_mount, solved->second);
     if (!best || score < best_score) {
       best = solved;
       best_score = score;
@@ -261,8 +261,8 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> SilentClosedFormH
 }
 
 std::optional<Eigen::Isometry3d> SharedTargetClosedForm(const Problem& problem) {
-  // For two views a, b of one camera, W = Z⁻¹ satisfies A·W = W·B with
-  // A = T_cam_target[b]⁻¹ · T_cam_target[a] and B = M_b⁻¹ · M_a.
+  // For two views a, b of one camera, W = T_target_holder satisfies A·W = W·B with
+  // A = T_cam_target[b]⁻¹ · T_cam_target[a] and B = T_holder_mount[b] · T_mount_holder[a].
   std::vector<Eigen::Isometry3d> A, B;
   for (const auto& ids : problem.camera_views)
     for (size_t a = 0; a < ids.size(); ++a)
@@ -270,7 +270,7 @@ std::optional<Eigen::Isometry3d> SharedTargetClosedForm(const Problem& problem) 
         const View& va = problem.views[ids[a]];
         const View& vb = problem.views[ids[b]];
         A.push_back(vb.T_cam_target->inverse() * *va.T_cam_target);
-        B.push_back(problem.M[vb.pose].inverse() * problem.M[va.pose]);
+        B.push_back(problem.T_mount_holder[vb.pose].inverse() * problem.T_mount_holder[va.pose]);
       }
   if (A.size() < 2) return std::nullopt;
   // Rotation: the axes (rotation vectors) satisfy a_i = R_W · b_i (Kabsch).
@@ -303,10 +303,10 @@ Problem WithDiverseViews(const Problem& problem, size_t max_views) {
     std::vector<int> chosen = {ids.front()};
     std::vector<double> nearest(ids.size(), std::numeric_limits<double>::infinity());
     while (chosen.size() < max_views) {
-      const Eigen::Matrix3d last = problem.M[problem.views[chosen.back()].pose].linear();
+      const Eigen::Matrix3d last = problem.T_mount_holder[problem.views[chosen.back()].pose].linear();
       size_t best = 0;
       for (size_t i = 0; i < ids.size(); ++i) {
-        const Eigen::Matrix3d R = problem.M[problem.views[ids[i]].pose].linear();
+        const Eigen::Matrix3d R = problem.T_mount_holder[problem.views[ids[i]].pose].linear();
         nearest[i] = std::min(nearest[i], RotationDistance(last, R));
         if (nearest[i] > nearest[best]) best = i;
       }
@@ -323,7 +323,7 @@ Initialisation InitialiseJoint(const Problem& full_problem) {
   // refinement then uses every view.
   const Problem problem = WithDiverseViews(full_problem, 12);
   const size_t num_cameras = problem.camera_views.size();
-  // Candidates for the shared Z: a closed form per camera where a camera has
+  // Candidates for the shared T_holder_target: a closed form per camera where a camera has
   // the motions for it, and the linear solve over all cameras. None of them
   // may print (Calibrate() is reentrant and writes nothing to stdout), which
   // rules ViSP out here.
@@ -344,12 +344,12 @@ Initialisation InitialiseJoint(const Problem& full_problem) {
   Initialisation best;
   double best_score = std::numeric_limits<double>::infinity();
   std::string best_name;
-  for (const auto& [name, Z] : candidates) {
+  for (const auto& [name, T_holder_target] : candidates) {
     Initialisation init;
-    init.Z = Z;
+    init.T_holder_target = T_holder_target;
     for (size_t k = 0; k < num_cameras; ++k)
-      init.X.push_back(CameraGivenTarget(full_problem, static_cast<int>(k), Z));
-    const double score = MedianViewRms(full_problem, init.X, Z);
+      init.T_cam_mount.push_back(CameraGivenTarget(full_problem, static_cast<int>(k), T_holder_target));
+    const double score = MedianViewRms(full_problem, init.T_cam_mount, T_holder_target);
     if (score < best_score) {
       best_score = score;
       best = init;

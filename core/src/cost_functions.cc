@@ -21,22 +21,23 @@ ceres::CostFunction* ViewReprojectionWithRobotError::Create(const Camera& camera
   return new ChainedViewCost<3, RobotChainJacobian>(camera, std::move(points), cauchy_scale_px, {}, free_intrinsics);
 }
 
-ceres::CostFunction* ViewReprojectionError::Create(const Camera& camera, const Eigen::Isometry3d& M, ViewPoints points,
-                                                   double cauchy_scale_px) {
-  return Create(camera, M, std::make_shared<const ViewPoints>(std::move(points)), cauchy_scale_px);
+ceres::CostFunction* ViewReprojectionError::Create(const Camera& camera, const Eigen::Isometry3d& T_mount_holder,
+                                                   ViewPoints points, double cauchy_scale_px) {
+  return Create(camera, T_mount_holder, std::make_shared<const ViewPoints>(std::move(points)), cauchy_scale_px);
 }
 
-ceres::CostFunction* ViewReprojectionError::Create(const Camera& camera, const Eigen::Isometry3d& M,
+ceres::CostFunction* ViewReprojectionError::Create(const Camera& camera, const Eigen::Isometry3d& T_mount_holder,
                                                    std::shared_ptr<const ViewPoints> points, double cauchy_scale_px,
                                                    bool free_intrinsics) {
-  return new ChainedViewCost<2, DirectChainJacobian>(camera, std::move(points), cauchy_scale_px,
-                                                     DirectChainJacobian{{ToPoseParams(M)}}, free_intrinsics);
+  return new ChainedViewCost<2, DirectChainJacobian>(
+      camera, std::move(points), cauchy_scale_px, DirectChainJacobian{{ToPoseParams(T_mount_holder)}}, free_intrinsics);
 }
 
-ceres::CostFunction* ViewCrossReprojectionError::Create(const Camera& camera_k, const Eigen::Isometry3d& M,
+ceres::CostFunction* ViewCrossReprojectionError::Create(const Camera& camera_k, const Eigen::Isometry3d& T_mount_holder,
                                                         ViewPoints points, double cauchy_scale_px) {
   return new ChainedViewCost<3, CrossChainJacobian>(camera_k, std::make_shared<const ViewPoints>(std::move(points)),
-                                                    cauchy_scale_px, CrossChainJacobian{{ToPoseParams(M)}});
+                                                    cauchy_scale_px,
+                                                    CrossChainJacobian{{ToPoseParams(T_mount_holder)}});
 }
 
 }  // namespace handeye

@@ -5,6 +5,10 @@
 // Cauchy scaling, of a projection with the intrinsics as unknowns, and the
 // view cost that chains them. tests/core/cost_jacobians_test.cc checks each
 // against autodiff.
+//
+// The chains are written in the paper's letters, which keep the derivative
+// names short (d_MZ_d_Z): X = T_cam_mount, M = T_mount_holder, Z =
+// T_holder_target (handeye/core/setup_frames.h), so X · M · Z = T_cam_target.
 
 #include <ceres/cost_function.h>
 #include <ceres/jet.h>

@@ -38,8 +38,8 @@ std::string AuthorName(std::string method) {
   return method;
 }
 
-ClosedFormComparison CompareWithClosedForm(const Problem& problem, int k, const Eigen::Isometry3d& X,
-                                           const Eigen::Isometry3d& Z, Method method) {
+ClosedFormComparison CompareWithClosedForm(const Problem& problem, int k, const Eigen::Isometry3d& T_cam_mount,
+                                           const Eigen::Isometry3d& T_holder_target, Method method) {
   ClosedFormComparison cmp;
   cmp.method = MethodName(method);
   std::string why;
@@ -49,20 +49,22 @@ ClosedFormComparison CompareWithClosedForm(const Problem& problem, int k, const 
     return cmp;
   }
   cmp.available = true;
-  const Eigen::Isometry3d& X_cf = closed->first;
-  cmp.translation_mm = 1000.0 * (X_cf.inverse().translation() - X.inverse().translation()).norm();
-  cmp.rotation_deg = RotationDistance(X_cf.rotation(), X.rotation()) * kRadToDeg;
+  const Eigen::Isometry3d& T_cam_mount_closed_form = closed->first;
+  cmp.translation_mm =
+      1000.0 * (T_cam_mount_closed_form.inverse().translation() - T_cam_mount.inverse().translation()).norm();
+  cmp.rotation_deg = RotationDistance(T_cam_mount_closed_form.rotation(), T_cam_mount.rotation()) * kRadToDeg;
   // The same target points (placed by the result's chain) seen from the
   // closed form's camera pose. Each method's own chain would not do: a closed
-  // form's error in X is largely made up by its own Z, so its predictions
-  // agree while X does not.
+  // form's error in T_cam_mount is largely made up by its own
+  // T_holder_target, so its predictions agree while the camera poses do not.
   const Camera& camera = problem.dataset->cameras[k];
   double sum = 0;
   int n = 0;
   for (int v : problem.camera_views[k]) {
     const View& view = problem.views[v];
-    const Eigen::Isometry3d T_cam_target = X * problem.M[view.pose] * Z;
-    const Eigen::Isometry3d T_closedcam_target = X_cf * problem.M[view.pose] * Z;
+    const Eigen::Isometry3d T_cam_target = T_cam_mount * problem.T_mount_holder[view.pose] * T_holder_target;
+    const Eigen::Isometry3d T_closedcam_target =
+        T_cam_mount_closed_form * problem.T_mount_holder[view.pose] * T_holder_target;
     for (const Eigen::Vector3d& p : view.p_target) {
       const auto uv = camera.Project(T_cam_target * p);
       const auto uv_closed = camera.Project(T_closedcam_target * p);
@@ -132,8 +134,8 @@ RobotMotions CollectRobotMotions(const Problem& problem, const std::vector<int>&
   RobotMotions motions;
   for (size_t a = 0; a < views.size(); ++a)
     for (size_t b = a + 1; b < views.size(); ++b) {
-      const Eigen::Matrix3d R = problem.M[problem.views[views[a]].pose].rotation().transpose() *
-                                problem.M[problem.views[views[b]].pose].rotation();
+      const Eigen::Matrix3d R = problem.T_mount_holder[problem.views[views[a]].pose].rotation().transpose() *
+                                problem.T_mount_holder[problem.views[views[b]].pose].rotation();
       const Eigen::Vector3d rv = RotationVectorFromMatrix(R);
       const double angle = rv.norm();
       motions.largest_deg = std::max(motions.largest_deg, angle * kRadToDeg);
@@ -154,15 +156,16 @@ double AxisSpreadDeg(const std::vector<Eigen::Vector3d>& axes) {
   return std::acos(std::clamp(smallest_cos, 0.0, 1.0)) * kRadToDeg;
 }
 
-AxzbOfView Axzb(const Eigen::Isometry3d& T_cam_target_pnp, const Eigen::Isometry3d& X, const Eigen::Isometry3d& M,
-                const Eigen::Isometry3d& Z) {
+AxzbOfView Axzb(const Eigen::Isometry3d& T_cam_target_pnp, const Eigen::Isometry3d& T_cam_mount,
+                const Eigen::Isometry3d& T_mount_holder, const Eigen::Isometry3d& T_holder_target) {
   // Paper eq. (real_metrics): A_j X = Z' B_j with A_j = T_target_cam[j] (PnP),
-  // Z' = Z⁻¹, B_j = M_j⁻¹; both sides are T_target_mount.
-  const Eigen::Isometry3d AX = T_cam_target_pnp.inverse() * X;
-  const Eigen::Isometry3d ZB = Z.inverse() * M.inverse();
+  // X = T_cam_mount, Z' = T_target_holder, B_j = T_holder_mount[j]; both
+  // sides are T_target_mount.
+  const Eigen::Isometry3d AX = T_cam_target_pnp.inverse() * T_cam_mount;
+  const Eigen::Isometry3d ZB = T_holder_target.inverse() * T_mount_holder.inverse();
   // The camera in its mount's frame, from the view and from the solution.
-  const Eigen::Isometry3d T_mount_cam_view = M * Z * T_cam_target_pnp.inverse();
-  const Eigen::Isometry3d T_mount_cam = X.inverse();
+  const Eigen::Isometry3d T_mount_cam_view = T_mount_holder * T_holder_target * T_cam_target_pnp.inverse();
+  const Eigen::Isometry3d T_mount_cam = T_cam_mount.inverse();
   AxzbOfView out;
   out.target_frame_m = (AX.translation() - ZB.translation()).norm();
   out.camera_frame_m = (T_mount_cam_view.translation() - T_mount_cam.translation()).norm();
@@ -171,8 +174,8 @@ AxzbOfView Axzb(const Eigen::Isometry3d& T_cam_target_pnp, const Eigen::Isometry
 }
 
 std::vector<std::string> DiagnoseSolution(const Problem& problem,
-                                          const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                                          const TargetPoses& Z, const CalibrationOptions& options,
+                                          const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                                          const TargetPoses& T_holder_target, const CalibrationOptions& options,
                                           CalibrationResult* result) {
   const size_t n = problem.dataset->cameras.size();
   struct Sums {
@@ -194,8 +197,8 @@ std::vector<std::string> DiagnoseSolution(const Problem& problem,
     const int k = view.camera;
     vr.rms_px = vr.max_px = 0;
     vr.outlier = false;
-    if (!X[k]) continue;
-    const auto errors = ViewErrors(problem, view, *X[k], Z[k]);
+    if (!T_cam_mount[k]) continue;
+    const auto errors = ViewErrors(problem, view, *T_cam_mount[k], T_holder_target[k]);
     vr.rms_px = ViewRms(errors, &vr.max_px);
     vr.outlier = view.used && outlier_px > 0 && vr.rms_px > outlier_px;
     if (!view.used) continue;
@@ -205,7 +208,8 @@ std::vector<std::string> DiagnoseSolution(const Problem& problem,
     cam.max_px = std::max(cam.max_px, vr.max_px);
     cam.outliers += vr.outlier ? 1 : 0;
     if (view.T_cam_target) {
-      const AxzbOfView axzb = Axzb(*view.T_cam_target, *X[k], problem.M[view.pose], Z[k]);
+      const AxzbOfView axzb =
+          Axzb(*view.T_cam_target, *T_cam_mount[k], problem.T_mount_holder[view.pose], T_holder_target[k]);
       sums[k].axzb_target += axzb.target_frame_m;
       sums[k].axzb_camera += axzb.camera_frame_m;
       sums[k].axzb_rotation += axzb.rotation_rad;
@@ -233,8 +237,9 @@ std::vector<std::string> DiagnoseSolution(const Problem& problem,
     cam.rotation_spread_deg = motions.largest_deg;
     cam.axis_spread_deg = AxisSpreadDeg(motions.axes);
     cam.closed_form.reset();
-    if (options.compare_closed_form && X[k])
-      cam.closed_form = CompareWithClosedForm(problem, static_cast<int>(k), *X[k], Z[k], closed_form);
+    if (options.compare_closed_form && T_cam_mount[k])
+      cam.closed_form =
+          CompareWithClosedForm(problem, static_cast<int>(k), *T_cam_mount[k], T_holder_target[k], closed_form);
   }
   result->metrics.rms_px = total.points ? std::sqrt(total.sq / total.points) : 0.0;
   result->metrics.axzb_translation_mm = axzb_views ? 1000.0 * total.axzb_target / axzb_views : 0.0;
@@ -285,15 +290,15 @@ std::vector<std::string> Diagnose(const Dataset& dataset, const CalibrationOptio
     views.push_back(vr);
   }
   internal::IndexUsedViews(&problem);
-  std::vector<std::optional<Eigen::Isometry3d>> X(cameras.size());
-  internal::TargetPoses Z(cameras.size(), result->T_target);
+  std::vector<std::optional<Eigen::Isometry3d>> T_cam_mount(cameras.size());
+  internal::TargetPoses T_holder_target(cameras.size(), result->T_target);
   for (size_t k = 0; k < cameras.size(); ++k) {
-    if (cameras[k].calibrated) X[k] = cameras[k].T_cam.inverse();
-    if (cameras[k].own_T_target) Z[k] = *cameras[k].own_T_target;
+    if (cameras[k].calibrated) T_cam_mount[k] = cameras[k].T_cam.inverse();
+    if (cameras[k].own_T_target) T_holder_target[k] = *cameras[k].own_T_target;
   }
   result->cameras = cameras;
   result->views = views;
-  return internal::DiagnoseSolution(problem, X, Z, options, result);
+  return internal::DiagnoseSolution(problem, T_cam_mount, T_holder_target, options, result);
 }
 
 }  // namespace handeye

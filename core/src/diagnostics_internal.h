@@ -33,19 +33,19 @@ struct AxzbOfView {
   double camera_frame_m = 0;
   double rotation_rad = 0;
 };
-/// For camera pose X, robot pose M and target pose Z of calibration.h's chain,
+/// For the chain T_cam_mount · T_mount_holder · T_holder_target (calibration.h)
 /// and the view's PnP pose T_cam_target.
-AxzbOfView Axzb(const Eigen::Isometry3d& T_cam_target_pnp, const Eigen::Isometry3d& X,
-                const Eigen::Isometry3d& M, const Eigen::Isometry3d& Z);
+AxzbOfView Axzb(const Eigen::Isometry3d& T_cam_target_pnp, const Eigen::Isometry3d& T_cam_mount,
+                const Eigen::Isometry3d& T_mount_holder, const Eigen::Isometry3d& T_holder_target);
 
 /// Per view and per camera residuals, AX = ZB, motion diversity and (with
 /// options.compare_closed_form) the closed-form comparison of the solution
-/// (X, Z), written into `result`, whose views (in problem.views order) and
+/// (T_cam_mount, T_holder_target), written into `result`, whose views (in problem.views order) and
 /// cameras exist already; the metrics too. Returns the warnings the
 /// thresholds in options.warn call for.
 std::vector<std::string> DiagnoseSolution(const Problem& problem,
-                                          const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                                          const TargetPoses& Z, const CalibrationOptions& options,
+                                          const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                                          const TargetPoses& T_holder_target, const CalibrationOptions& options,
                                           CalibrationResult* result);
 
 }  // namespace handeye::internal

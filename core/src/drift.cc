@@ -56,7 +56,7 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
   }
   CalibrationOptions calibration_options;
   internal::Problem problem = internal::BuildProblem(dataset, calibration_options);
-  const Eigen::Isometry3d& Z = calibration.T_target;
+  const Eigen::Isometry3d& T_holder_target = calibration.T_target;
 
   DriftResult out;
   for (const CameraResult& cam : calibration.cameras) {
@@ -79,20 +79,19 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
     ceres::Problem::Options problem_options;
     problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
     ceres::Problem ceres_problem(problem_options);
-    PoseParams X = ToPoseParams(cam.T_cam.inverse()), Z_params = ToPoseParams(Z);
-    ceres_problem.AddParameterBlock(X.data(), 7, new PoseManifold());
-    ceres_problem.AddParameterBlock(Z_params.data(), 7);
-    ceres_problem.SetParameterBlockConstant(Z_params.data());
+    PoseParams T_cam_mount = ToPoseParams(cam.T_cam.inverse()), T_holder_target_params = ToPoseParams(T_holder_target);
+    ceres_problem.AddParameterBlock(T_cam_mount.data(), 7, new PoseManifold());
+    ceres_problem.AddParameterBlock(T_holder_target_params.data(), 7);
+    ceres_problem.SetParameterBlockConstant(T_holder_target_params.data());
     const double scale = std::max(1.0, 3.0 * internal::DetectionSigmaPx(problem));
     std::vector<ceres::ResidualBlockId> blocks;
     for (int v : views) {
       const internal::View& view = problem.views[v];
       blocks.push_back(ceres_problem.AddResidualBlock(
-          ViewReprojectionError::Create(dataset.cameras[k], problem.M[view.pose],
-                                        std::make_shared<const ViewPoints>(
-                                            ViewPoints{view.p_target, view.observation->points_px}),
-                                        scale),
-          nullptr, X.data(), Z_params.data()));
+          ViewReprojectionError::Create(
+              dataset.cameras[k], problem.T_mount_holder[view.pose],
+              std::make_shared<const ViewPoints>(ViewPoints{view.p_target, view.observation->points_px}), scale),
+          nullptr, T_cam_mount.data(), T_holder_target_params.data()));
     }
     ceres::Solver::Options solver;
     solver.linear_solver_type = ceres::DENSE_QR;
@@ -101,19 +100,20 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
     solver.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
     ceres::Solve(solver, &ceres_problem, &summary);
-    const Eigen::Isometry3d X_now = FromPoseParams(X.data());
-    drift.T_cam = X_now.inverse();
+    const Eigen::Isometry3d T_cam_mount_now = FromPoseParams(T_cam_mount.data());
+    drift.T_cam = T_cam_mount_now.inverse();
     drift.moved_mm = 1000.0 * (drift.T_cam.translation() - cam.T_cam.translation()).norm();
     drift.moved_deg = RotationDistance(drift.T_cam.rotation(), cam.T_cam.rotation()) * 180.0 / M_PI;
     ceres::Covariance::Options covariance_options;
     covariance_options.algorithm_type = ceres::DENSE_SVD;
     ceres::Covariance covariance(covariance_options);
-    const std::vector<std::pair<const double*, const double*>> pair = {{X.data(), X.data()}};
+    const std::vector<std::pair<const double*, const double*>> pair = {{T_cam_mount.data(), T_cam_mount.data()}};
     if (covariance.Compute(pair, &ceres_problem)) {
       Eigen::Matrix<double, 6, 6, Eigen::RowMajor> C;
-      covariance.GetCovarianceBlockInTangentSpace(X.data(), X.data(), C.data());
+      covariance.GetCovarianceBlockInTangentSpace(T_cam_mount.data(), T_cam_mount.data(), C.data());
       const double variance_factor = internal::VarianceFactor(&ceres_problem, blocks);
-      const PoseUncertainty u = internal::UncertaintyOf(X_now, Eigen::Matrix<double, 6, 6>(C) * variance_factor, true);
+      const PoseUncertainty u =
+          internal::UncertaintyOf(T_cam_mount_now, Eigen::Matrix<double, 6, 6>(C) * variance_factor, true);
       // The difference of two estimates: the new one and the calibration's own.
       const double calibrated_mm = cam.sigma ? cam.sigma->position_mm : 0.0;
       const double calibrated_deg = cam.sigma ? cam.sigma->rotation_deg : 0.0;

@@ -232,24 +232,24 @@ Camera EstimateIntrinsics(const Dataset& dataset, int k) {
 }
 
 std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
-                                            const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                                            const TargetPoses& Z, double cauchy_scale_px,
+                                            const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                                            const TargetPoses& T_holder_target, double cauchy_scale_px,
                                             const std::vector<unsigned>& check,
                                             const std::optional<RobotPrior>& robot) {
   using PoseManifold = ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>;
   const Dataset& dataset = *problem.dataset;
   std::vector<std::string> warnings;
   for (size_t k = 0; k < dataset.cameras.size(); ++k) {
-    if (k >= check.size() || !check[k] || !X[k] || problem.camera_views[k].size() < 3) continue;
+    if (k >= check.size() || !check[k] || !T_cam_mount[k] || problem.camera_views[k].size() < 3) continue;
     const Camera& camera = dataset.cameras[k];
     ceres::Problem::Options problem_options;
     problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
     ceres::Problem ceres_problem(problem_options);
-    PoseParams X_k = ToPoseParams(*X[k]), Z_k = ToPoseParams(Z[k]);
+    PoseParams T_cam_mount_k = ToPoseParams(*T_cam_mount[k]), T_holder_target_k = ToPoseParams(T_holder_target[k]);
     Intrinsics K = camera.params;
-    ceres_problem.AddParameterBlock(X_k.data(), 7, new PoseManifold());
-    ceres_problem.AddParameterBlock(Z_k.data(), 7);
-    ceres_problem.SetManifold(Z_k.data(), new PoseManifold());
+    ceres_problem.AddParameterBlock(T_cam_mount_k.data(), 7, new PoseManifold());
+    ceres_problem.AddParameterBlock(T_holder_target_k.data(), 7);
+    ceres_problem.SetManifold(T_holder_target_k.data(), new PoseManifold());
     std::vector<int> constant;
     for (int p = 4; p < kN; ++p) constant.push_back(p);
     ceres_problem.AddParameterBlock(K.data(), kN, new ceres::SubsetManifold(kN, constant));
@@ -257,26 +257,27 @@ std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
     // prior, as in the joint solve: a pose's error moves all points of its
     // view together, which the per-point residuals alone would count as
     // independent evidence (σ too small, false alarms).
-    std::vector<PoseParams> M(dataset.poses.size());
+    std::vector<PoseParams> T_mount_holder(dataset.poses.size());
     std::vector<ceres::ResidualBlockId> view_blocks;
     for (int v : problem.camera_views[k]) {
       const View& view = problem.views[v];
       auto points = std::make_shared<const ViewPoints>(ViewPoints{view.p_target, view.observation->points_px});
       if (robot) {
-        double* M_j = M[view.pose].data();
-        M[view.pose] = ToPoseParams(problem.M[view.pose]);
-        ceres_problem.AddParameterBlock(M_j, 7, new PoseManifold());
+        double* T_mount_holder_j = T_mount_holder[view.pose].data();
+        T_mount_holder[view.pose] = ToPoseParams(problem.T_mount_holder[view.pose]);
+        ceres_problem.AddParameterBlock(T_mount_holder_j, 7, new PoseManifold());
         ceres_problem.AddResidualBlock(
             RobotPosePrior::Create(dataset.poses[view.pose].T_base_ee, FramesOf(dataset.setup).RobotPoseInverted(),
                                    robot->sigma_rad, robot->sigma_m, robot->pixel_sigma_px),
-            nullptr, M_j);
+            nullptr, T_mount_holder_j);
         view_blocks.push_back(ceres_problem.AddResidualBlock(
             ViewReprojectionWithRobotError::Create(camera, std::move(points), cauchy_scale_px, true), nullptr,
-            {X_k.data(), M_j, Z_k.data(), K.data()}));
+            {T_cam_mount_k.data(), T_mount_holder_j, T_holder_target_k.data(), K.data()}));
       } else {
-        view_blocks.push_back(ceres_problem.AddResidualBlock(
-            ViewReprojectionError::Create(camera, problem.M[view.pose], std::move(points), cauchy_scale_px, true),
-            nullptr, X_k.data(), Z_k.data(), K.data()));
+        view_blocks.push_back(
+            ceres_problem.AddResidualBlock(ViewReprojectionError::Create(camera, problem.T_mount_holder[view.pose],
+                                                                         std::move(points), cauchy_scale_px, true),
+                                           nullptr, T_cam_mount_k.data(), T_holder_target_k.data(), K.data()));
       }
     }
     ceres::Solver::Options solver;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// The nonlinear refinement: the paper's joint problem (shared Z, c_rpj + c_cross
+// The nonlinear refinement: the paper's joint problem (shared T_holder_target, c_rpj + c_cross
 // under a Cauchy loss) and the per-camera variant.
 #include <ceres/covariance.h>
 #include <ceres/manifold.h>
@@ -123,24 +123,24 @@ SolverSummary Solve(ceres::Solver::Options solver, const CalibrationOptions& opt
   return out;
 }
 
-/// The covariance of the solution: tangent-space 6×6 of the pose blocks X_k
-/// and Z, and 1σ of every intrinsic parameter, from the Jacobian at the
+/// The covariance of the solution: tangent-space 6×6 of the pose blocks
+/// T_cam_mount and T_holder_target, and 1σ of every intrinsic parameter, from the Jacobian at the
 /// solution scaled by the a posteriori variance factor (the residuals' own
 /// scale) and by the view design factor (an error the points of a view share,
 /// e.g. a robot pose error not modelled, counts once per view, not per point).
 /// Fills `out`; leaves it empty when the Jacobian is rank deficient.
-void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& X, double* Z,
+void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_cam_mount, double* T_holder_target,
                         const std::vector<double*>& K, const std::vector<ceres::ResidualBlockId>& views, int threads,
                         Refinement* out) {
   constexpr int kN = OpenCVCameraModel::kNumParams;
   out->intrinsics_sigma.assign(K.size(), {});
   for (auto& s : out->intrinsics_sigma) s.fill(0.0);
-  out->X_covariance.assign(X.size(), std::nullopt);
-  out->Z_covariance.reset();
+  out->T_cam_mount_covariance.assign(T_cam_mount.size(), std::nullopt);
+  out->T_holder_target_covariance.reset();
   std::vector<std::pair<const double*, const double*>> pairs;
-  for (double* block : X)
+  for (double* block : T_cam_mount)
     if (block && !problem->IsParameterBlockConstant(block)) pairs.emplace_back(block, block);
-  pairs.emplace_back(Z, Z);
+  pairs.emplace_back(T_holder_target, T_holder_target);
   for (double* block : K)
     if (block) pairs.emplace_back(block, block);
   const double variance_factor = VarianceFactor(problem, views);
@@ -156,9 +156,10 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& X, 
     return Eigen::Matrix<double, 6, 6>(C * variance_factor);
   };
   if (ok) {
-    for (size_t k = 0; k < X.size(); ++k)
-      if (X[k] && !problem->IsParameterBlockConstant(X[k])) out->X_covariance[k] = pose_covariance(X[k]);
-    out->Z_covariance = pose_covariance(Z);
+    for (size_t k = 0; k < T_cam_mount.size(); ++k)
+      if (T_cam_mount[k] && !problem->IsParameterBlockConstant(T_cam_mount[k]))
+        out->T_cam_mount_covariance[k] = pose_covariance(T_cam_mount[k]);
+    out->T_holder_target_covariance = pose_covariance(T_holder_target);
   }
   for (size_t k = 0; k < K.size(); ++k) {
     if (!K[k]) continue;
@@ -188,16 +189,17 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
   ceres::Problem ceres_problem(problem_options);
   PoseBlocks blocks;
 
-  double* Z = blocks.Add(init.Z);
-  ceres_problem.AddParameterBlock(Z, 7);
-  SetPoseManifold(&ceres_problem, Z);
-  std::vector<double*> X(dataset.cameras.size(), nullptr);
-  for (size_t k = 0; k < X.size(); ++k) {
-    if (!init.X[k] || problem.camera_views[k].empty()) continue;
-    X[k] = blocks.Add(*init.X[k]);
-    ceres_problem.AddParameterBlock(X[k], 7);
-    SetPoseManifold(&ceres_problem, X[k]);
-    if (k < init.fixed_X.size() && init.fixed_X[k]) ceres_problem.SetParameterBlockConstant(X[k]);
+  double* T_holder_target = blocks.Add(init.T_holder_target);
+  ceres_problem.AddParameterBlock(T_holder_target, 7);
+  SetPoseManifold(&ceres_problem, T_holder_target);
+  std::vector<double*> T_cam_mount(dataset.cameras.size(), nullptr);
+  for (size_t k = 0; k < T_cam_mount.size(); ++k) {
+    if (!init.T_cam_mount[k] || problem.camera_views[k].empty()) continue;
+    T_cam_mount[k] = blocks.Add(*init.T_cam_mount[k]);
+    ceres_problem.AddParameterBlock(T_cam_mount[k], 7);
+    SetPoseManifold(&ceres_problem, T_cam_mount[k]);
+    if (k < init.fixed_T_cam_mount.size() && init.fixed_T_cam_mount[k])
+      ceres_problem.SetParameterBlockConstant(T_cam_mount[k]);
   }
 
   // Free intrinsics: one block of 18 per camera, the fixed ones held by a subset manifold.
@@ -206,7 +208,7 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
   std::vector<double*> K_block(dataset.cameras.size(), nullptr);
   for (size_t k = 0; k < K.size(); ++k) {
     K[k] = dataset.cameras[k].params;
-    if (!X[k] || k >= init.free_intrinsics.size() || init.free_intrinsics[k].empty()) continue;
+    if (!T_cam_mount[k] || k >= init.free_intrinsics.size() || init.free_intrinsics[k].empty()) continue;
     K_block[k] = K[k].data();
     ceres_problem.AddParameterBlock(K_block[k], OpenCVCameraModel::kNumParams);
     std::vector<int> constant;
@@ -222,20 +224,22 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
 
   // With a robot prior, each robot pose with a used view is a block, tied to
   // the reported pose by its prior.
-  std::vector<double*> M(dataset.poses.size(), nullptr);
+  std::vector<double*> T_mount_holder(dataset.poses.size(), nullptr);
   auto robot_pose = [&](int j) {
-    if (!M[j]) {
-      M[j] = blocks.Add(j < static_cast<int>(init.M.size()) && init.M[j] ? *init.M[j] : problem.M[j]);
-      ceres_problem.AddParameterBlock(M[j], 7);
-      SetPoseManifold(&ceres_problem, M[j]);
+    if (!T_mount_holder[j]) {
+      T_mount_holder[j] = blocks.Add(j < static_cast<int>(init.T_mount_holder.size()) && init.T_mount_holder[j]
+                                         ? *init.T_mount_holder[j]
+                                         : problem.T_mount_holder[j]);
+      ceres_problem.AddParameterBlock(T_mount_holder[j], 7);
+      SetPoseManifold(&ceres_problem, T_mount_holder[j]);
       ceres_problem.AddResidualBlock(
           RobotPosePrior::Create(dataset.poses[j].T_base_ee, FramesOf(dataset.setup).RobotPoseInverted(),
                                  robot->sigma_rad, robot->sigma_m, robot->pixel_sigma_px),
-          nullptr, M[j]);
+          nullptr, T_mount_holder[j]);
     }
-    return M[j];
+    return T_mount_holder[j];
   };
-  // One view's reprojection cost through camera block `camera_block` (X_k or Y_kt).
+  // One view's reprojection cost through camera block `camera_block` (T_camk_mount, direct or via t).
   std::vector<ceres::ResidualBlockId> direct_blocks;  // c_rpj, one per view
   auto add_view = [&](const View& view, int k, double* camera_block, std::shared_ptr<const ViewPoints> view_points) {
     const bool free_intrinsics = K_block[k] != nullptr;
@@ -246,10 +250,10 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
                                                     options.cauchy_scale_px, free_intrinsics);
       blocks.push_back(robot_pose(view.pose));
     } else {
-      cost = ViewReprojectionError::Create(dataset.cameras[k], problem.M[view.pose], std::move(view_points),
-                                           options.cauchy_scale_px, free_intrinsics);
+      cost = ViewReprojectionError::Create(dataset.cameras[k], problem.T_mount_holder[view.pose],
+                                           std::move(view_points), options.cauchy_scale_px, free_intrinsics);
     }
-    blocks.push_back(Z);
+    blocks.push_back(T_holder_target);
     if (free_intrinsics) blocks.push_back(K_block[k]);
     return ceres_problem.AddResidualBlock(cost, nullptr, blocks);
   };
@@ -260,22 +264,24 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
   std::vector<std::shared_ptr<const ViewPoints>> points(problem.views.size());
   for (size_t v = 0; v < problem.views.size(); ++v) {
     const View& view = problem.views[v];
-    if (!view.used || !X[view.camera]) continue;
+    if (!view.used || !T_cam_mount[view.camera]) continue;
     views_at_pose[view.pose].push_back(static_cast<int>(v));
     points[v] = Points(view);
-    direct_blocks.push_back(add_view(view, view.camera, X[view.camera], points[v]));
+    direct_blocks.push_back(add_view(view, view.camera, T_cam_mount[view.camera], points[v]));
   }
 
   // c_cross: at each pose, for each ordered pair (k, t) of cameras that both
   // detected the target, camera k's points predicted through camera t:
-  // π_k(T_camk_camt · X_t · M_j · Z · p). T_camk_camt is free (one block per
-  // pair), so the term is solved in the variable Y_kt = T_camk_camt · X_t
-  // (camera k's pose as seen through camera t) and T_camk_camt = Y_kt · X_t⁻¹
-  // is read back after the solve: (T_camk_camt, X_t) -> (Y_kt, X_t) is a
+  // π_k(T_camk_camt · T_camt_mount · T_mount_holder[j] · T_holder_target · p).
+  // T_camk_camt is free (one block per pair), so the term is solved in the
+  // variable T_camk_mount_via_t = T_camk_camt · T_camt_mount (camera k's pose
+  // as seen through camera t; the paper's Y_kt) and T_camk_camt =
+  // T_camk_mount_via_t · T_mount_camt is read back after the solve:
+  // (T_camk_camt, T_camt_mount) -> (T_camk_mount_via_t, T_camt_mount) is a
   // bijection, so the cost, its minimum and the minimiser are the paper's,
   // while each c_cross block touches two blocks instead of three (a third
   // less Jacobian to store, evaluate and eliminate).
-  std::map<std::pair<int, int>, double*> pair_blocks;  // (k, t) -> Y_kt
+  std::map<std::pair<int, int>, double*> pair_blocks;  // (k, t) -> T_camk_mount_via_t
   if (options.cross_terms) {
     for (const auto& at_pose : views_at_pose)
       for (int vk : at_pose)
@@ -283,34 +289,35 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
           if (vk == vt) continue;
           const View& view_k = problem.views[vk];
           const int k = view_k.camera, t = problem.views[vt].camera;
-          double*& Y_kt = pair_blocks[{k, t}];
-          if (!Y_kt) {
-            // T_camk_camt starts at X_k · X_t⁻¹, so Y_kt at X_k.
-            Y_kt = blocks.Add(*init.X[k]);
-            ceres_problem.AddParameterBlock(Y_kt, 7);
-            SetPoseManifold(&ceres_problem, Y_kt);
+          double*& T_camk_mount_via_t = pair_blocks[{k, t}];
+          if (!T_camk_mount_via_t) {
+            // T_camk_camt starts at T_camk_mount · T_mount_camt, so this block at T_camk_mount.
+            T_camk_mount_via_t = blocks.Add(*init.T_cam_mount[k]);
+            ceres_problem.AddParameterBlock(T_camk_mount_via_t, 7);
+            SetPoseManifold(&ceres_problem, T_camk_mount_via_t);
           }
-          add_view(view_k, k, Y_kt, points[vk]);
+          add_view(view_k, k, T_camk_mount_via_t, points[vk]);
         }
   }
 
-  // Every residual block touches Z and exactly one other block (X_k or
-  // Y_kt), so all of those are eliminated block by block (Schur complement,
-  // built on all threads) and only Z's 6×6 system is left to factor. Forming
+  // Every residual block touches T_holder_target and exactly one other block
+  // (T_camk_mount, direct or via t), so all of those are eliminated block by
+  // block (Schur complement, built on all threads) and only T_holder_target's
+  // 6×6 system is left to factor. Forming
   // JᵀJ of the whole Jacobian instead (sparse normal Cholesky) ran on one
   // thread and copied the Jacobian, ~10x larger with the cross blocks than
   // the c_rpj part, at every step to append the LM diagonal.
   // With robot pose blocks, those are eliminated instead (each residual block
-  // touches one), and the cameras, pairs and Z form the reduced system.
+  // touches one), and the cameras, pairs and T_holder_target form the reduced system.
   ceres::Solver::Options solver = SolverOptions(options, ceres_problem);
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   const int camera_group = robot ? 1 : 0;
-  for (double* block : X)
+  for (double* block : T_cam_mount)
     if (block) ordering->AddElementToGroup(block, camera_group);
   for (const auto& [pair, block] : pair_blocks) ordering->AddElementToGroup(block, camera_group);
-  for (double* block : M)
+  for (double* block : T_mount_holder)
     if (block) ordering->AddElementToGroup(block, 0);
-  ordering->AddElementToGroup(Z, 1);
+  ordering->AddElementToGroup(T_holder_target, 1);
   for (double* block : K_block)
     if (block) ordering->AddElementToGroup(block, 1);
   solver.linear_solver_type = ceres::DENSE_SCHUR;
@@ -322,56 +329,58 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
   solver.initial_trust_region_radius = 1e6;
   Refinement out;
   if (step == JointStep::kSolve) out.summary = Solve(solver, options, &ceres_problem);
-  out.Z.push_back(PoseBlocks::Get(Z));
-  out.X.resize(X.size());
-  for (size_t k = 0; k < X.size(); ++k)
-    if (X[k]) out.X[k] = PoseBlocks::Get(X[k]);
-  for (const auto& [pair, Y_kt] : pair_blocks)
-    out.pairs[pair] = PoseBlocks::Get(Y_kt) * out.X[pair.second]->inverse();
+  out.T_holder_target.push_back(PoseBlocks::Get(T_holder_target));
+  out.T_cam_mount.resize(T_cam_mount.size());
+  for (size_t k = 0; k < T_cam_mount.size(); ++k)
+    if (T_cam_mount[k]) out.T_cam_mount[k] = PoseBlocks::Get(T_cam_mount[k]);
+  for (const auto& [pair, T_camk_mount_via_t] : pair_blocks)
+    out.pairs[pair] = PoseBlocks::Get(T_camk_mount_via_t) * out.T_cam_mount[pair.second]->inverse();
   out.intrinsics = K;
-  out.M.resize(M.size());
-  for (size_t j = 0; j < M.size(); ++j)
-    if (M[j]) out.M[j] = PoseBlocks::Get(M[j]);
+  out.T_mount_holder.resize(T_mount_holder.size());
+  for (size_t j = 0; j < T_mount_holder.size(); ++j)
+    if (T_mount_holder[j]) out.T_mount_holder[j] = PoseBlocks::Get(T_mount_holder[j]);
   if (step == JointStep::kCovariance)
-    SolutionCovariance(&ceres_problem, X, Z, K_block, direct_blocks, options.threads, &out);
+    SolutionCovariance(&ceres_problem, T_cam_mount, T_holder_target, K_block, direct_blocks, options.threads, &out);
   return out;
 }
 
-Refinement RefinePerCamera(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& X0,
-                           const std::vector<Eigen::Isometry3d>& Z0, const CalibrationOptions& options) {
+Refinement RefinePerCamera(const Problem& problem,
+                           const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount_start,
+                           const std::vector<Eigen::Isometry3d>& T_holder_target_start,
+                           const CalibrationOptions& options) {
   const Dataset& dataset = *problem.dataset;
   Refinement out;
-  out.X.resize(dataset.cameras.size());
-  out.Z = Z0;
+  out.T_cam_mount.resize(dataset.cameras.size());
+  out.T_holder_target = T_holder_target_start;
   out.summary.converged = true;  // until a camera's solve does not
   out.summary.cauchy_scale_px = options.cauchy_scale_px;
   out.summary.rounds = 1;
   for (size_t k = 0; k < dataset.cameras.size(); ++k) {
-    if (!X0[k] || problem.camera_views[k].empty()) continue;
+    if (!T_cam_mount_start[k] || problem.camera_views[k].empty()) continue;
     ceres::Problem::Options problem_options;
     problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
     ceres::Problem ceres_problem(problem_options);
     PoseBlocks blocks;
-    double* X = blocks.Add(*X0[k]);
-    double* Z = blocks.Add(Z0[k]);
-    for (double* b : {X, Z}) {
+    double* T_cam_mount = blocks.Add(*T_cam_mount_start[k]);
+    double* T_holder_target = blocks.Add(T_holder_target_start[k]);
+    for (double* b : {T_cam_mount, T_holder_target}) {
       ceres_problem.AddParameterBlock(b, 7);
       SetPoseManifold(&ceres_problem, b);
     }
     for (int v : problem.camera_views[k]) {
       const View& view = problem.views[v];
       ceres_problem.AddResidualBlock(
-          ViewReprojectionError::Create(dataset.cameras[k], problem.M[view.pose], Points(view),
+          ViewReprojectionError::Create(dataset.cameras[k], problem.T_mount_holder[view.pose], Points(view),
                                         options.cauchy_scale_px),
-          nullptr, X, Z);
+          nullptr, T_cam_mount, T_holder_target);
     }
     const SolverSummary s = Solve(SolverOptions(options, ceres_problem), options, &ceres_problem);
     out.summary.seconds += s.seconds;
     out.summary.iterations += s.iterations;
     out.summary.termination = s.termination;
     out.summary.converged = out.summary.converged && s.converged;
-    out.X[k] = PoseBlocks::Get(X);
-    out.Z[k] = PoseBlocks::Get(Z);
+    out.T_cam_mount[k] = PoseBlocks::Get(T_cam_mount);
+    out.T_holder_target[k] = PoseBlocks::Get(T_holder_target);
   }
   return out;
 }

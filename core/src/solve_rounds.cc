@@ -28,8 +28,8 @@ double ViewRms(const std::vector<double>& errors, double* max_error) {
 }
 
 TargetPoses TargetPosesOf(const Refinement& refined, size_t num_cameras) {
-  if (refined.Z.size() == num_cameras) return refined.Z;
-  return TargetPoses(num_cameras, refined.Z.front());
+  if (refined.T_holder_target.size() == num_cameras) return refined.T_holder_target;
+  return TargetPoses(num_cameras, refined.T_holder_target.front());
 }
 
 Refinement RobustSolve(Problem* problem, const CalibrationOptions& options, double first_scale,
@@ -47,10 +47,10 @@ Refinement RobustSolve(Problem* problem, const CalibrationOptions& options, doub
     refined = solve(scale);
     total.seconds += refined.summary.seconds;
     total.iterations += refined.summary.iterations;
-    const TargetPoses Z = TargetPosesOf(refined, n);
+    const TargetPoses T_holder_target = TargetPosesOf(refined, n);
     std::vector<int> off;
     if (options.reject_views && round < kMaxRounds)
-      off = ViewsOffTheSolution(*problem, refined.X, Z);
+      off = ViewsOffTheSolution(*problem, refined.T_cam_mount, T_holder_target);
     int used = 0;
     for (const auto& views : problem->camera_views) used += static_cast<int>(views.size());
     if (3 * static_cast<int>(off.size()) > used_before) {
@@ -65,7 +65,7 @@ Refinement RobustSolve(Problem* problem, const CalibrationOptions& options, doub
       View& view = problem->views[v];
       double max_px = 0;
       const double rms =
-          ViewRms(ViewErrors(*problem, view, *refined.X[view.camera], Z[view.camera]), &max_px);
+          ViewRms(ViewErrors(*problem, view, *refined.T_cam_mount[view.camera], T_holder_target[view.camera]), &max_px);
       std::ostringstream why;
       why.precision(3);
       why << "it disagrees with the calibration of the other views (RMS " << rms
@@ -76,7 +76,7 @@ Refinement RobustSolve(Problem* problem, const CalibrationOptions& options, doub
     }
     if (!off.empty()) IndexUsedViews(problem);
     double new_scale = scale;
-    if (!fixed_scale) new_scale = std::max(1.0, 3.0 * ResidualSigmaPx(*problem, refined.X, Z));
+    if (!fixed_scale) new_scale = std::max(1.0, 3.0 * ResidualSigmaPx(*problem, refined.T_cam_mount, T_holder_target));
     const bool scale_settled = std::abs(new_scale - scale) <= 0.1 * scale;
     if ((off.empty() && scale_settled) || round == kMaxRounds) {
       total.rounds = round;
@@ -98,7 +98,7 @@ void CrossValidate(const Problem& problem, const Initialisation& init,
   out->assign(n, {});
   std::vector<double> sq(n, 0.0), moved_sq(n, 0.0), turned_sq(n, 0.0);
   std::vector<int> points(n, 0), solves(n, 0);
-  std::vector<std::vector<int>> views_at_pose(problem.M.size());
+  std::vector<std::vector<int>> views_at_pose(problem.T_mount_holder.size());
   for (size_t v = 0; v < problem.views.size(); ++v)
     if (problem.views[v].used) views_at_pose[problem.views[v].pose].push_back(static_cast<int>(v));
   for (size_t j = 0; j < views_at_pose.size(); ++j) {
@@ -114,16 +114,16 @@ void CrossValidate(const Problem& problem, const Initialisation& init,
     }
     for (int v : views_at_pose[j]) {
       const View& view = problem.views[v];
-      if (!r.X[view.camera]) continue;
-      for (double e : ViewErrors(problem, view, *r.X[view.camera], r.Z[0])) {
+      if (!r.T_cam_mount[view.camera]) continue;
+      for (double e : ViewErrors(problem, view, *r.T_cam_mount[view.camera], r.T_holder_target[0])) {
         sq[view.camera] += e * e;
         ++points[view.camera];
       }
       ++(*out)[view.camera].folds;
     }
     for (size_t k = 0; k < n; ++k) {
-      if (!r.X[k] || !init.X[k]) continue;
-      const Eigen::Isometry3d a = r.X[k]->inverse(), b = init.X[k]->inverse();
+      if (!r.T_cam_mount[k] || !init.T_cam_mount[k]) continue;
+      const Eigen::Isometry3d a = r.T_cam_mount[k]->inverse(), b = init.T_cam_mount[k]->inverse();
       moved_sq[k] += (a.translation() - b.translation()).squaredNorm();
       turned_sq[k] += std::pow(RotationDistance(a.rotation(), b.rotation()), 2);
       ++solves[k];

@@ -60,23 +60,23 @@ PositionCovariance ComputePositionCovariance(const Dataset& dataset, const Calib
   ceres::Problem::Options problem_options;
   problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
-  PoseParams Z = ToPoseParams(at.T_target);
-  problem.AddParameterBlock(Z.data(), 7, new PoseManifold());
-  std::vector<PoseParams> X(dataset.cameras.size());
+  PoseParams T_holder_target = ToPoseParams(at.T_target);
+  problem.AddParameterBlock(T_holder_target.data(), 7, new PoseManifold());
+  std::vector<PoseParams> T_cam_mount(dataset.cameras.size());
   std::vector<bool> has_views(dataset.cameras.size(), false);
-  for (size_t k = 0; k < X.size(); ++k) {
+  for (size_t k = 0; k < T_cam_mount.size(); ++k) {
     if (k >= at.cameras.size() || !at.cameras[k].calibrated) continue;
-    X[k] = ToPoseParams(at.cameras[k].T_cam.inverse());
+    T_cam_mount[k] = ToPoseParams(at.cameras[k].T_cam.inverse());
   }
   for (const auto& obs : dataset.observations) {
     const int k = dataset.CameraIndex(obs.camera);
     const int j = dataset.PoseIndex(obs.pose_id);
     if (k < 0 || j < 0 || !at.cameras[k].calibrated) continue;
     if (!has_views[k]) {
-      problem.AddParameterBlock(X[k].data(), 7, new PoseManifold());
+      problem.AddParameterBlock(T_cam_mount[k].data(), 7, new PoseManifold());
       has_views[k] = true;
     }
-    const Eigen::Isometry3d M = FramesOf(dataset.setup).MountFromHolder(dataset.poses[j].T_base_ee);
+    const Eigen::Isometry3d T_mount_holder = FramesOf(dataset.setup).MountFromHolder(dataset.poses[j].T_base_ee);
     ViewPoints points;
     for (size_t i = 0; i < obs.ids.size(); ++i) {
       const TargetPoint* p = dataset.target->FindPoint(obs.ids[i]);
@@ -86,24 +86,24 @@ PositionCovariance ComputePositionCovariance(const Dataset& dataset, const Calib
     }
     if (points.p_target.empty()) continue;
     // No robust loss: the bound is for Gaussian noise on every point.
-    problem.AddResidualBlock(ViewReprojectionError::Create(dataset.cameras[k], M, std::move(points), 0.0),
-                             nullptr, X[k].data(), Z.data());
+    problem.AddResidualBlock(ViewReprojectionError::Create(dataset.cameras[k], T_mount_holder, std::move(points), 0.0),
+                             nullptr, T_cam_mount[k].data(), T_holder_target.data());
   }
   ceres::Covariance::Options options;
   options.algorithm_type = ceres::DENSE_SVD;
   ceres::Covariance covariance(options);
   std::vector<std::pair<const double*, const double*>> blocks;
-  for (size_t k = 0; k < X.size(); ++k)
-    if (has_views[k]) blocks.emplace_back(X[k].data(), X[k].data());
+  for (size_t k = 0; k < T_cam_mount.size(); ++k)
+    if (has_views[k]) blocks.emplace_back(T_cam_mount[k].data(), T_cam_mount[k].data());
   if (!covariance.Compute(blocks, &problem))
     throw SolveError("the calibration is not observable from these views (singular information matrix)");
   PositionCovariance out;
-  for (size_t k = 0; k < X.size(); ++k) {
+  for (size_t k = 0; k < T_cam_mount.size(); ++k) {
     if (!has_views[k]) continue;
     Eigen::Matrix<double, 6, 6, Eigen::RowMajor> C;
-    covariance.GetCovarianceBlockInTangentSpace(X[k].data(), X[k].data(), C.data());
-    const PoseUncertainty u =
-        internal::UncertaintyOf(FromPoseParams(X[k].data()), Eigen::Matrix<double, 6, 6>(C) * noise_px * noise_px, true);
+    covariance.GetCovarianceBlockInTangentSpace(T_cam_mount[k].data(), T_cam_mount[k].data(), C.data());
+    const PoseUncertainty u = internal::UncertaintyOf(FromPoseParams(T_cam_mount[k].data()),
+                                                      Eigen::Matrix<double, 6, 6>(C) * noise_px * noise_px, true);
     constexpr double kMmToM = 1e-3, kDegToRad = M_PI / 180.0;
     out.camera_position[dataset.cameras[k].name] = u.covariance.topLeftCorner<3, 3>() * kMmToM * kMmToM;
     out.camera_rotation[dataset.cameras[k].name] = u.covariance.bottomRightCorner<3, 3>() * kDegToRad * kDegToRad;

@@ -88,7 +88,7 @@ struct MotionMismatch {
 
 MotionMismatch Compare(const Problem& problem, const View& a, const View& b) {
   const Screw seen = ScrewOf(*a.T_cam_target * b.T_cam_target->inverse());
-  const Screw moved = ScrewOf(problem.M[a.pose] * problem.M[b.pose].inverse());
+  const Screw moved = ScrewOf(problem.T_mount_holder[a.pose] * problem.T_mount_holder[b.pose].inverse());
   MotionMismatch m;
   m.angle_rad = std::abs(seen.angle_rad - moved.angle_rad);
   if (seen.angle_rad > kMinAngleForPitch && moved.angle_rad > kMinAngleForPitch)
@@ -96,13 +96,14 @@ MotionMismatch Compare(const Problem& problem, const View& a, const View& b) {
   return m;
 }
 
-/// Residual norms (pixels) of every point of a used view through (X, Z).
-std::vector<double> PointErrors(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                                const TargetPoses& Z) {
+/// Residual norms (pixels) of every point of a used view through the chain.
+std::vector<double> PointErrors(const Problem& problem,
+                                const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                                const TargetPoses& T_holder_target) {
   std::vector<double> errors;
   for (const View& view : problem.views) {
-    if (!view.used || !X[view.camera]) continue;
-    const auto e = ViewErrors(problem, view, *X[view.camera], Z[view.camera]);
+    if (!view.used || !T_cam_mount[view.camera]) continue;
+    const auto e = ViewErrors(problem, view, *T_cam_mount[view.camera], T_holder_target[view.camera]);
     errors.insert(errors.end(), e.begin(), e.end());
   }
   return errors;
@@ -172,16 +173,16 @@ int RejectInconsistentMotions(Problem* problem) {
 }
 
 std::vector<int> ViewsOffTheSolution(const Problem& problem,
-                                     const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                                     const TargetPoses& Z) {
+                                     const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                                     const TargetPoses& T_holder_target) {
   const size_t n = problem.camera_views.size();
   std::vector<double> rms(problem.views.size(), 0.0);
   std::vector<std::vector<double>> per_camera(n);
   std::vector<double> all;
   for (size_t k = 0; k < n; ++k) {
-    if (!X[k]) continue;
+    if (!T_cam_mount[k]) continue;
     for (int v : problem.camera_views[k]) {
-      rms[v] = ViewRms(ViewErrors(problem, problem.views[v], *X[k], Z[k]));
+      rms[v] = ViewRms(ViewErrors(problem, problem.views[v], *T_cam_mount[k], T_holder_target[k]));
       per_camera[k].push_back(rms[v]);
       all.push_back(rms[v]);
     }
@@ -195,7 +196,7 @@ std::vector<int> ViewsOffTheSolution(const Problem& problem,
   const double global_threshold = threshold(all);
   std::vector<int> off;
   for (size_t k = 0; k < n; ++k) {
-    if (!X[k]) continue;
+    if (!T_cam_mount[k]) continue;
     const double limit = per_camera[k].size() >= 5 ? threshold(per_camera[k]) : global_threshold;
     for (int v : problem.camera_views[k])
       if (rms[v] > limit) off.push_back(v);
@@ -203,19 +204,20 @@ std::vector<int> ViewsOffTheSolution(const Problem& problem,
   return off;
 }
 
-double ResidualSigmaPx(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                       const TargetPoses& Z) {
+double ResidualSigmaPx(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                       const TargetPoses& T_holder_target) {
   // The norm of a 2D Gaussian residual of σ per axis has median σ·√(2 ln 2).
-  return Median(PointErrors(problem, X, Z)) / std::sqrt(2.0 * std::log(2.0));
+  return Median(PointErrors(problem, T_cam_mount, T_holder_target)) / std::sqrt(2.0 * std::log(2.0));
 }
 
-void ExplainInconsistentViews(Problem* problem, const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                              const TargetPoses& Z) {
+void ExplainInconsistentViews(Problem* problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                              const TargetPoses& T_holder_target) {
   for (View& view : problem->views) {
-    if (!view.inconsistent || !view.T_cam_target || !X[view.camera]) continue;
+    if (!view.inconsistent || !view.T_cam_target || !T_cam_mount[view.camera]) continue;
     // The target pose the view's PnP found, in the target frame the chain predicts.
     const Eigen::Isometry3d T_predicted_seen =
-        (*X[view.camera] * problem->M[view.pose] * Z[view.camera]).inverse() * *view.T_cam_target;
+        (*T_cam_mount[view.camera] * problem->T_mount_holder[view.pose] * T_holder_target[view.camera]).inverse() *
+        *view.T_cam_target;
     const Eigen::Vector3d rotvec = RotationVectorFromMatrix(T_predicted_seen.rotation());
     const double angle = rotvec.norm();
     // A half turn about an axis in the target's plane: the sheet turned over.
@@ -237,17 +239,18 @@ double DetectionSigmaPx(const Problem& problem) {
 }
 
 std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
-                                             const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                                             const TargetPoses& Z) {
+                                             const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                                             const TargetPoses& T_holder_target) {
   const Dataset& dataset = *problem.dataset;
   const Eigen::Vector3d centre = TargetCentre(*dataset.target);
   const double pixel_sigma_px = DetectionSigmaPx(problem);
   std::vector<double> chain_rms, pnp_rms, across_m, angle_rad, pnp_across_m2, pnp_rotation_rad2;
   for (const View& view : problem.views) {
-    if (!view.used || !X[view.camera]) continue;
-    chain_rms.push_back(ViewRms(ViewErrors(problem, view, *X[view.camera], Z[view.camera])));
+    if (!view.used || !T_cam_mount[view.camera]) continue;
+    chain_rms.push_back(ViewRms(ViewErrors(problem, view, *T_cam_mount[view.camera], T_holder_target[view.camera])));
     pnp_rms.push_back(view.pnp_rms_px);
-    const Eigen::Isometry3d chain = *X[view.camera] * problem.M[view.pose] * Z[view.camera];
+    const Eigen::Isometry3d chain =
+        *T_cam_mount[view.camera] * problem.T_mount_holder[view.pose] * T_holder_target[view.camera];
     // Across the viewing ray PnP locates the target well; along it, poorly.
     const Eigen::Vector3d offset = chain * centre - *view.T_cam_target * centre;
     const Eigen::Vector3d ray = (*view.T_cam_target * centre).normalized();
@@ -272,7 +275,7 @@ std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
     return std::sqrt(std::max(0.0, seen_sigma * seen_sigma - pnp_variance));
   };
   prior.sigma_rad = std::max(beyond_pnp(Median(angle_rad) / 1.5382, Median(pnp_rotation_rad2)), 1e-5 * kDeg);
-  // With few views per camera, X_k absorbs the flange's displacements across
+  // With few views per camera, T_cam_mount absorbs the flange's displacements across
   // the rays, which then look smaller than they are. A robot's pose error
   // comes from its joints, whose angle errors move the flange by about the
   // rotation error times the reach: the larger of the two.
@@ -285,8 +288,8 @@ std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
 }
 
 std::vector<std::string> PoseRecordWarnings(const Problem& problem,
-                                            const std::vector<std::optional<Eigen::Isometry3d>>& X,
-                                            const TargetPoses& Z) {
+                                            const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                                            const TargetPoses& T_holder_target) {
   const Dataset& dataset = *problem.dataset;
   const Eigen::Vector3d centre = TargetCentre(*dataset.target);
   std::vector<std::string> warnings;
@@ -304,11 +307,11 @@ std::vector<std::string> PoseRecordWarnings(const Problem& problem,
     std::string cameras;
     for (const View* view : seen) {
       cameras += (cameras.empty() ? "" : ", ") + dataset.cameras[view->camera].name;
-      if (!X[view->camera]) continue;
+      if (!T_cam_mount[view->camera]) continue;
       // Where the robot record puts the target, against where the camera saw
-      // it, both in X's frame (the camera's mount).
-      const Eigen::Vector3d by_robot = problem.M[j] * Z[view->camera] * centre;
-      const Eigen::Vector3d by_camera = X[view->camera]->inverse() * *view->T_cam_target * centre;
+      // it, both in the camera's mount frame.
+      const Eigen::Vector3d by_robot = problem.T_mount_holder[j] * T_holder_target[view->camera] * centre;
+      const Eigen::Vector3d by_camera = T_cam_mount[view->camera]->inverse() * *view->T_cam_target * centre;
       sum_mm += 1000.0 * (by_robot - by_camera).norm();
       ++measured;
     }

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
 /// @file
-/// Ceres cost functors of the joint solve (see calibration.h for X, M, Z):
+/// Ceres cost functors of the joint solve, over the chain (calibration.h)
+/// T_cam_target = T_cam_mount · T_mount_holder · T_holder_target, the paper's
+/// X · M · Z (the letters stay in the chain functors' short local names):
 /// their templated operator() is the reference (autodiff), their Create()
 /// the cost the solver uses, with derivatives by hand (core/src/cost_jacobians.h).
 ///
@@ -84,9 +86,10 @@ bool ProjectView(const U* intrinsics, const ViewPoints& view, double cauchy_scal
   return true;
 }
 
-/// X · M · Z: blocks X, Z.
+/// T_cam_mount · T_mount_holder · T_holder_target (X · M · Z): blocks
+/// T_cam_mount, T_holder_target.
 struct DirectChain {
-  PoseParams M;
+  PoseParams M;  ///< T_mount_holder of the view's robot pose
   template <typename T>
   void operator()(const T* const* blocks, T* out) const {
     T M_t[7], MZ[7];
@@ -96,9 +99,10 @@ struct DirectChain {
   }
 };
 
-/// T_camk_camt · X_t · M · Z: blocks T_camk_camt, X_t, Z.
+/// T_camk_camt · T_camt_mount · T_mount_holder · T_holder_target: blocks
+/// T_camk_camt, T_camt_mount, T_holder_target.
 struct CrossChain {
-  PoseParams M;
+  PoseParams M;  ///< T_mount_holder of the view's robot pose
   template <typename T>
   void operator()(const T* const* blocks, T* out) const {
     T XMZ[7];
@@ -108,8 +112,9 @@ struct CrossChain {
   }
 };
 
-/// X · M · Z with the robot pose M a block too: blocks X, M, Z (the joint
-/// solve with robot pose corrections; X may be a pair's Y_kt).
+/// T_cam_mount · T_mount_holder · T_holder_target with the robot pose a block
+/// too: blocks T_cam_mount, T_mount_holder, T_holder_target (the joint solve
+/// with robot pose corrections; T_cam_mount may be a pair's T_camk_mount_via_t).
 struct RobotChain {
   template <typename T>
   void operator()(const T* const* blocks, T* out) const {
@@ -121,15 +126,17 @@ struct RobotChain {
 
 }  // namespace cost_internal
 
-/// c_rpj of one view with the robot pose as a parameter block: X_k · M_j · Z.
-/// Parameters X_k (or a pair's Y_kt), M_j, Z. Residuals: 2 per point (pixels).
+/// c_rpj of one view with the robot pose as a parameter block:
+/// T_cam_mount · T_mount_holder[j] · T_holder_target. Parameters T_cam_mount
+/// (or a pair's T_camk_mount_via_t, see RefineJoint), T_mount_holder[j],
+/// T_holder_target. Residuals: 2 per point (pixels).
 struct ViewReprojectionWithRobotError {
   /// With `free_intrinsics`, a fourth block: the camera's 18 intrinsics.
   static ceres::CostFunction* Create(const Camera& camera, std::shared_ptr<const ViewPoints> points,
                                      double cauchy_scale_px, bool free_intrinsics = false);
   template <typename T>
-  bool operator()(const T* X, const T* M, const T* Z, T* residuals) const {
-    const T* blocks[3] = {X, M, Z};
+  bool operator()(const T* T_cam_mount, const T* T_mount_holder, const T* T_holder_target, T* residuals) const {
+    const T* blocks[3] = {T_cam_mount, T_mount_holder, T_holder_target};
     T pose[7];
     cost_internal::RobotChain{}(blocks, pose);
     return cost_internal::ProjectView(intrinsics.data(), view, cauchy_scale_px, pose, residuals);
@@ -140,17 +147,18 @@ struct ViewReprojectionWithRobotError {
 };
 
 /// The prior of a robot pose: how far the solved T_base_ee may be from the
-/// reported one. Parameter: M (`[qx qy qz qw tx ty tz]`), which is T_base_ee
-/// (eye_to_hand) or its inverse (eye_in_hand). Residuals (6): the rotation
+/// reported one. Parameter: T_mount_holder (`[qx qy qz qw tx ty tz]`), which
+/// is T_base_ee (eye_to_hand) or its inverse (eye_in_hand; `inverse`, see
+/// SetupFrames::RobotPoseInverted). Residuals (6): the rotation
 /// R_base_ee · R_reported⁻¹ as a rotation vector over `sigma_rad` (per axis,
 /// about the flange, in the base frame) and the flange's displacement over
 /// `sigma_m` (per axis), both times `pixel_sigma_px`, so that the prior
 /// and the pixel residuals are weighted by their noise alike.
 struct RobotPosePrior {
   template <typename T>
-  bool operator()(const T* M, T* residuals) const {
-    const Eigen::Map<const Eigen::Quaternion<T>> q(M);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(M + 4);
+  bool operator()(const T* T_mount_holder, T* residuals) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(T_mount_holder);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(T_mount_holder + 4);
     Eigen::Quaternion<T> q_base_ee = q;
     Eigen::Matrix<T, 3, 1> t_base_ee = t;
     if (inverse) {
@@ -185,24 +193,28 @@ struct RobotPosePrior {
   double weight_rotation = 1, weight_translation = 1;
 };
 
-/// c_rpj of one view: every point against X_k · M_j · Z · p_target.
-/// Parameters: X_k and Z as `[qx qy qz qw tx ty tz]`. Residuals: 2 per point (pixels).
+/// c_rpj of one view: every point against T_cam_mount · T_mount_holder[j] ·
+/// T_holder_target · p_target. Parameters: T_cam_mount and T_holder_target as
+/// `[qx qy qz qw tx ty tz]`. Residuals: 2 per point (pixels).
 struct ViewReprojectionError {
-  ViewReprojectionError(const Camera& camera, const Eigen::Isometry3d& M, ViewPoints points,
+  ViewReprojectionError(const Camera& camera, const Eigen::Isometry3d& T_mount_holder, ViewPoints points,
                         double cauchy_scale_px)
-      : intrinsics(camera.params), M(ToPoseParams(M)), view(std::move(points)), cauchy_scale_px(cauchy_scale_px) {}
+      : intrinsics(camera.params),
+        M(ToPoseParams(T_mount_holder)),
+        view(std::move(points)),
+        cauchy_scale_px(cauchy_scale_px) {}
 
   template <typename T>
-  bool operator()(const T* X, const T* Z, T* residuals) const {
-    const T* blocks[2] = {X, Z};
+  bool operator()(const T* T_cam_mount, const T* T_holder_target, T* residuals) const {
+    const T* blocks[2] = {T_cam_mount, T_holder_target};
     T pose[7];
     cost_internal::DirectChain{M}(blocks, pose);
     return cost_internal::ProjectView(intrinsics.data(), view, cauchy_scale_px, pose, residuals);
   }
   /// The same with the intrinsics as a third block (autodiff reference).
   template <typename T>
-  bool operator()(const T* X, const T* Z, const T* K, T* residuals) const {
-    const T* blocks[2] = {X, Z};
+  bool operator()(const T* T_cam_mount, const T* T_holder_target, const T* K, T* residuals) const {
+    const T* blocks[2] = {T_cam_mount, T_holder_target};
     T pose[7];
     cost_internal::DirectChain{M}(blocks, pose);
     return cost_internal::ProjectView(K, view, cauchy_scale_px, pose, residuals);
@@ -210,41 +222,43 @@ struct ViewReprojectionError {
 
   /// The cost with chain-rule derivatives (same values as autodiff of
   /// operator(), faster). `cauchy_scale_px` <= 0: plain squared error.
-  static ceres::CostFunction* Create(const Camera& camera, const Eigen::Isometry3d& M, ViewPoints points,
+  static ceres::CostFunction* Create(const Camera& camera, const Eigen::Isometry3d& T_mount_holder, ViewPoints points,
                                      double cauchy_scale_px);
   /// The same, sharing the view's points with other blocks (the cross terms of the view).
   /// With `free_intrinsics`, a third block: the camera's 18 intrinsics.
-  static ceres::CostFunction* Create(const Camera& camera, const Eigen::Isometry3d& M,
+  static ceres::CostFunction* Create(const Camera& camera, const Eigen::Isometry3d& T_mount_holder,
                                      std::shared_ptr<const ViewPoints> points, double cauchy_scale_px,
                                      bool free_intrinsics = false);
 
   std::array<double, OpenCVCameraModel::kNumParams> intrinsics;
-  PoseParams M;
+  PoseParams M;  ///< T_mount_holder of the view's robot pose (the paper's M_j)
   ViewPoints view;
   double cauchy_scale_px;
 };
 
 /// c_cross of one view of camera k at pose j, predicted through camera t:
-/// T_camk_camt · X_t · M_j · Z · p_target. Parameters: T_camk_camt, X_t, Z.
+/// T_camk_camt · T_camt_mount · T_mount_holder[j] · T_holder_target ·
+/// p_target. Parameters: T_camk_camt, T_camt_mount, T_holder_target.
 /// The paper's form. Its residuals are those of ViewReprojectionError with
-/// X = T_camk_camt · X_t, and since T_camk_camt is a free block per pair the
-/// joint solve uses that form in the variable Y_kt = T_camk_camt · X_t (two
-/// blocks per residual block instead of three; see RefineJoint).
+/// T_cam_mount = T_camk_camt · T_camt_mount, and since T_camk_camt is a free
+/// block per pair the joint solve uses that form in the variable
+/// T_camk_mount_via_t = T_camk_camt · T_camt_mount (two blocks per residual
+/// block instead of three; see RefineJoint).
 struct ViewCrossReprojectionError {
-  ViewCrossReprojectionError(const Camera& camera_k, const Eigen::Isometry3d& M, ViewPoints points,
+  ViewCrossReprojectionError(const Camera& camera_k, const Eigen::Isometry3d& T_mount_holder, ViewPoints points,
                              double cauchy_scale_px)
-      : direct(camera_k, M, std::move(points), cauchy_scale_px) {}
+      : direct(camera_k, T_mount_holder, std::move(points), cauchy_scale_px) {}
 
   template <typename T>
-  bool operator()(const T* T_camk_camt, const T* X_t, const T* Z, T* residuals) const {
-    const T* blocks[3] = {T_camk_camt, X_t, Z};
+  bool operator()(const T* T_camk_camt, const T* T_camt_mount, const T* T_holder_target, T* residuals) const {
+    const T* blocks[3] = {T_camk_camt, T_camt_mount, T_holder_target};
     T pose[7];
     cost_internal::CrossChain{direct.M}(blocks, pose);
     return cost_internal::ProjectView(direct.intrinsics.data(), direct.view, direct.cauchy_scale_px, pose, residuals);
   }
 
   /// The cost with chain-rule derivatives (see ViewReprojectionError::Create).
-  static ceres::CostFunction* Create(const Camera& camera_k, const Eigen::Isometry3d& M, ViewPoints points,
+  static ceres::CostFunction* Create(const Camera& camera_k, const Eigen::Isometry3d& T_mount_holder, ViewPoints points,
                                      double cauchy_scale_px);
 
   ViewReprojectionError direct;
