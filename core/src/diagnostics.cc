@@ -50,9 +50,11 @@ ClosedFormComparison CompareWithClosedForm(const Problem& problem, int k, const 
   }
   cmp.available = true;
   const Eigen::Isometry3d& T_cam_mount_closed_form = closed->first;
-  cmp.translation_mm =
-      1000.0 * (T_cam_mount_closed_form.inverse().translation() - T_cam_mount.inverse().translation()).norm();
-  cmp.rotation_deg = RotationDistance(T_cam_mount_closed_form.rotation(), T_cam_mount.rotation()) * kRadToDeg;
+  // The camera poses as the result states them (T_mount_cam), so that the
+  // figures are those `evaluate` gives with the closed form as the truth.
+  const PoseDifference moved = DifferenceOf(T_cam_mount_closed_form.inverse(), T_cam_mount.inverse());
+  cmp.translation_mm = moved.translation_mm;
+  cmp.rotation_deg = moved.rotation_deg;
   // The same target points (placed by the result's chain) seen from the
   // closed form's camera pose. Each method's own chain would not do: a closed
   // form's error in T_cam_mount is largely made up by its own
@@ -129,6 +131,13 @@ std::vector<std::string> QualityWarnings(const Problem& problem, const Calibrati
 }
 
 }  // namespace
+
+PoseDifference DifferenceOf(const Eigen::Isometry3d& T_a, const Eigen::Isometry3d& T_b) {
+  PoseDifference out;
+  out.translation_mm = 1000.0 * (T_a.translation() - T_b.translation()).norm();
+  out.rotation_deg = kRadToDeg * RotationDistance(T_a.rotation(), T_b.rotation());
+  return out;
+}
 
 RobotMotions CollectRobotMotions(const Problem& problem, const std::vector<int>& views) {
   RobotMotions motions;

@@ -27,6 +27,17 @@ RobotMotions CollectRobotMotions(const Problem& problem, const std::vector<int>&
 /// of at most ~1500 of them, evenly spaced, when there are more.
 double AxisSpreadDeg(const std::vector<Eigen::Vector3d>& axes);
 
+/// How far apart two poses of one frame in one parent frame are (two
+/// T_mount_cam, say): |t_a − t_b| in mm and the angle of R_aᵀ·R_b in degrees.
+/// The one measure of a camera pose's error, shared by the closed-form
+/// comparison, the ground-truth evaluation (the paper's e_t^GT and e_θ^GT)
+/// and the drift check, so that their figures compare.
+struct PoseDifference {
+  double translation_mm = 0;
+  double rotation_deg = 0;
+};
+PoseDifference DifferenceOf(const Eigen::Isometry3d& T_a, const Eigen::Isometry3d& T_b);
+
 /// The paper's AX = ZB figures of one view (see AxzbError), in metres and radians.
 struct AxzbOfView {
   double target_frame_m = 0;

@@ -11,7 +11,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "calibration_internal.h"
+#include "diagnostics_internal.h"
 #include "handeye/core/cost_functions.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
@@ -102,8 +102,9 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
     ceres::Solve(solver, &ceres_problem, &summary);
     const Eigen::Isometry3d T_cam_mount_now = FromPoseParams(T_cam_mount.data());
     drift.T_cam = T_cam_mount_now.inverse();
-    drift.moved_mm = 1000.0 * (drift.T_cam.translation() - cam.T_cam.translation()).norm();
-    drift.moved_deg = RotationDistance(drift.T_cam.rotation(), cam.T_cam.rotation()) * 180.0 / M_PI;
+    const internal::PoseDifference moved = internal::DifferenceOf(drift.T_cam, cam.T_cam);
+    drift.moved_mm = moved.translation_mm;
+    drift.moved_deg = moved.rotation_deg;
     ceres::Covariance::Options covariance_options;
     covariance_options.algorithm_type = ceres::DENSE_SVD;
     ceres::Covariance covariance(covariance_options);

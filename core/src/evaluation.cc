@@ -1,10 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "handeye/core/evaluation.h"
 
-#include <cmath>
-
+#include "diagnostics_internal.h"
 #include "handeye/core/error.h"
-#include "handeye/core/transform.h"
 
 namespace handeye {
 
@@ -13,7 +11,6 @@ Evaluation EvaluateAgainstTruth(const CalibrationResult& result, const GroundTru
     throw InputError("", "/setup",
                      std::string("the same setup in result and ground truth; result is ") +
                          SetupName(result.setup) + ", ground truth is " + SetupName(truth.setup));
-  constexpr double kRadToDeg = 180.0 / M_PI;
   Evaluation out;
   for (const CameraResult& cam : result.cameras) {
     const auto it = truth.T_cam.find(cam.name);
@@ -23,8 +20,9 @@ Evaluation EvaluateAgainstTruth(const CalibrationResult& result, const GroundTru
     }
     CameraError e;
     e.name = cam.name;
-    e.translation_mm = 1000.0 * (cam.T_cam.translation() - it->second.translation()).norm();
-    e.rotation_deg = kRadToDeg * RotationDistance(it->second.rotation(), cam.T_cam.rotation());
+    const internal::PoseDifference error = internal::DifferenceOf(it->second, cam.T_cam);
+    e.translation_mm = error.translation_mm;
+    e.rotation_deg = error.rotation_deg;
     out.mean_translation_mm += e.translation_mm;
     out.mean_rotation_deg += e.rotation_deg;
     out.cameras.push_back(e);
@@ -35,8 +33,9 @@ Evaluation EvaluateAgainstTruth(const CalibrationResult& result, const GroundTru
   out.mean_rotation_deg /= out.cameras.size();
   if (truth.has_T_target) {
     out.has_target_error = true;
-    out.target_translation_mm = 1000.0 * (result.T_target.translation() - truth.T_target.translation()).norm();
-    out.target_rotation_deg = kRadToDeg * RotationDistance(truth.T_target.rotation(), result.T_target.rotation());
+    const internal::PoseDifference error = internal::DifferenceOf(truth.T_target, result.T_target);
+    out.target_translation_mm = error.translation_mm;
+    out.target_rotation_deg = error.rotation_deg;
   }
   return out;
 }

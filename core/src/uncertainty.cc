@@ -68,6 +68,10 @@ PositionCovariance ComputePositionCovariance(const Dataset& dataset, const Calib
     if (k >= at.cameras.size() || !at.cameras[k].calibrated) continue;
     T_cam_mount[k] = ToPoseParams(at.cameras[k].T_cam.inverse());
   }
+  // Every detected point of every observation, at the given values: the bound
+  // is for the data as detected, so this does not go through BuildProblem,
+  // whose PnP drops views (fewer than 4 points, no plane pose, the target
+  // seen from behind) and which the diagnostics measure a solution on.
   for (const auto& obs : dataset.observations) {
     const int k = dataset.CameraIndex(obs.camera);
     const int j = dataset.PoseIndex(obs.pose_id);

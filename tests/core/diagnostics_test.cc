@@ -100,3 +100,36 @@ TEST_CASE("A closed form down-weights no view as an outlier", "[diagnostics]") {
   options.method = Method::kPark;
   CHECK(compared_with(Calibrate(scene.dataset, options)) == "tsai");
 }
+
+TEST_CASE("evaluate measures a camera's pose error as the closed-form comparison does", "[diagnostics][evaluation]") {
+  const SyntheticScene scene = Scene("small", 20, 0.2);
+  const CalibrationResult joint = Calibrate(scene.dataset, CalibrationOptions{});
+  CalibrationOptions park_options;
+  park_options.method = Method::kPark;
+  park_options.compare_closed_form = false;
+  const CalibrationResult park = Calibrate(scene.dataset, park_options);
+  // Both saw the same views, so the joint result's comparison ran Park on what Calibrate(park) did.
+  for (const CalibrationResult* result : {&joint, &park})
+    for (const ViewResult& view : result->views) REQUIRE(view.used);
+  // Park's cameras as the truth: evaluate's errors of the joint result are
+  // then the diagnostics' closed-form disagreement, figure for figure.
+  GroundTruth truth;
+  truth.setup = park.setup;
+  truth.has_T_target = false;
+  for (const CameraResult& cam : park.cameras)
+    if (cam.calibrated) truth.T_cam[cam.name] = cam.T_cam;
+  const Evaluation evaluation = EvaluateAgainstTruth(joint, truth);
+  REQUIRE(evaluation.cameras.size() == joint.cameras.size());
+  for (size_t k = 0; k < evaluation.cameras.size(); ++k) {
+    const CameraError& error = evaluation.cameras[k];
+    const CameraResult& cam = joint.cameras[k];
+    INFO(cam.name);
+    REQUIRE(error.name == cam.name);
+    REQUIRE(cam.closed_form);
+    REQUIRE(cam.closed_form->available);
+    CHECK(cam.closed_form->method == "park");
+    CHECK(error.translation_mm > 0.0);
+    CHECK(error.translation_mm == Approx(cam.closed_form->translation_mm).epsilon(1e-12));
+    CHECK(error.rotation_deg == Approx(cam.closed_form->rotation_deg).epsilon(1e-12));
+  }
+}
