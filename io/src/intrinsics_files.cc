@@ -101,6 +101,38 @@ bool AsksForBase64(const std::string& text, int format) {
   return false;
 }
 
+// OpenCV 4.6's YAML parser loops for ever when, after its first collection,
+// the text goes on with a '-' that does not start "---": after a line
+// indented less than the first key (" s: 3\nabc-\nr") or after a "..."
+// document end ("a: 1\n...\n-x"); found by fuzz/run. An intrinsics file is
+// one collection, so text that goes on after it is refused before OpenCV
+// reads it: lines indented less than the first key, and content after "...".
+void RequireOneOpenCvYamlCollection(const std::string& text, const std::string& path) {
+  std::size_t root_indent = std::string::npos, line_number = 0, root_line = 0, end_line = 0;
+  for (std::size_t start = 0; start < text.size(); ++line_number) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    const std::string line = text.substr(start, end - start);
+    start = end + 1;
+    const std::size_t indent = line.find_first_not_of(' ');
+    if (indent == std::string::npos || line[indent] == '#' || line[indent] == '\r') continue;  // blank, comment
+    const std::string where = "line " + std::to_string(line_number + 1) + ": ";
+    if (end_line)
+      throw InputError(path, "", where + "more after the document end ('...') on line " + std::to_string(end_line) +
+                                     "; expected one document");
+    if (line.compare(indent, 3, "...") == 0) {
+      end_line = line_number + 1;
+    } else if (root_indent == std::string::npos) {
+      if (line[indent] == '%' || line.compare(indent, 3, "---") == 0) continue;  // directives, document start
+      root_indent = indent;
+      root_line = line_number + 1;
+    } else if (indent < root_indent) {
+      throw InputError(path, "", where + "indented less than the first key (line " + std::to_string(root_line) +
+                                     "); OpenCV's YAML parser reads one collection, indented alike");
+    }
+  }
+}
+
 FileIntrinsics ReadOpenCv(const std::string& path) {
   std::string text = internal::ReadTextFile(path, "an intrinsics file");
   // OpenCV's parsers read the text as a C string (a NUL ends it early), and
@@ -121,8 +153,9 @@ FileIntrinsics ReadOpenCv(const std::string& path) {
       throw InputError(path, "", "not an OpenCV FileStorage XML file: it does not end with a closing tag");
   } else if (lead == '{') {
     format = cv::FileStorage::FORMAT_JSON;
-  } else if (text.compare(first == std::string::npos ? 0 : first, 5, "%YAML") != 0) {
-    text = "%YAML:1.0\n" + text;
+  } else {
+    RequireOneOpenCvYamlCollection(text, path);
+    if (text.compare(first == std::string::npos ? 0 : first, 5, "%YAML") != 0) text = "%YAML:1.0\n" + text;
   }
   if (AsksForBase64(text, format))
     throw InputError(path, "", "base64 (binary) values are not read: write the matrices as text");

@@ -269,6 +269,27 @@ TEST_CASE("OpenCV FileStorage: a matrix header that lies is refused before OpenC
                                                "distortion_coefficients: !!opencv-matrix\n  rows: 1\n  cols: 4\n"
                                                "  dt: d\n  data: [0.1, -0.01, 0, 0]\n");
   ReadIntrinsicsFile(dir + "/binary_name.yml", IntrinsicsFileFormat::kOpenCv, "");
+  // OpenCV looped for ever when the text went on after its first collection
+  // with a '-' that does not start "---": the saved input, then the two ways
+  // there (a line indented less than the first key, content after "...").
+  RequireFileError(finding_file("opencv_yaml_indent_loops.yaml"), IntrinsicsFileFormat::kOpenCv, "", "",
+                   "line 4: indented less than the first key (line 2)");
+  for (const auto& [text, expected] :
+       {std::pair<std::string, std::string>{" s: 3\nabc-\nr", "line 2: indented less than the first key (line 1)"},
+        {"%YAML:1.0\n---\n  a: 1\n  b: 2\n c-\n", "line 5: indented less than the first key (line 3)"},
+        {"a: 1\n...\n-x\n", "line 3: more after the document end ('...') on line 2"},
+        {"- 1\n- 2\n...\n# c\n-\n", "line 5: more after the document end ('...') on line 3"}}) {
+    INFO(text);
+    test::WriteText(dir + "/loops.yml", text);
+    RequireFileError(dir + "/loops.yml", IntrinsicsFileFormat::kOpenCv, "", "", expected);
+  }
+  // A file that ends with "...", comments anywhere and a nested key's
+  // dedent still read.
+  test::WriteText(dir + "/ends.yml", "%YAML:1.0\n---\n# intrinsics\n" + K +
+                                         "   # a comment left of the keys\n"
+                                         "distortion_coefficients: !!opencv-matrix\n  rows: 1\n  cols: 4\n"
+                                         "  dt: d\n  data: [0.1, -0.01, 0, 0]\n...\n\n# end\n");
+  ReadIntrinsicsFile(dir + "/ends.yml", IntrinsicsFileFormat::kOpenCv, "");
   // And one for the Kalibr reader: yaml-cpp's LoadAll never returned.
   RequireFileError((std::filesystem::path(__FILE__).parent_path() / "fuzz_findings/kalibr_yaml_no_progress.yaml").string(),
                    IntrinsicsFileFormat::kKalibr, "cam0", "", "not readable as YAML (the parser gets no further)");
