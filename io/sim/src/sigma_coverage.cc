@@ -13,7 +13,8 @@
 
 namespace handeye {
 
-SigmaCoverage MeasureSigmaCoverage(SceneOptions options, double noise_px, int seeds, std::uint64_t first_seed) {
+SigmaCoverage MeasureSigmaCoverage(SceneOptions options, double noise_px, int seeds, std::uint64_t first_seed,
+                                   const CalibrationOptions& calibration) {
   SigmaCoverage out;
   for (int i = 0; i < seeds; ++i) {
     options.seed = first_seed + i;
@@ -22,7 +23,7 @@ SigmaCoverage MeasureSigmaCoverage(SceneOptions options, double noise_px, int se
     AddProjectedObservations(&scene, noise_px, &rng);
     CalibrationResult result;
     try {
-      result = Calibrate(scene.dataset, CalibrationOptions{});
+      result = Calibrate(scene.dataset, calibration);
     } catch (const std::exception& e) {
       out.failures.push_back(options.cell + " seed " + std::to_string(options.seed) + ": " + e.what());
       continue;
@@ -34,6 +35,8 @@ SigmaCoverage MeasureSigmaCoverage(SceneOptions options, double noise_px, int se
 
 void AddToCoverage(const CalibrationResult& result, const GroundTruth& truth, SigmaCoverage* out) {
   ++out->scenes;
+  out->robot_sigma_mm.push_back(result.solver.robot_sigma_mm);
+  out->robot_sigma_deg.push_back(result.solver.robot_sigma_deg);
   for (const CameraResult& camera : result.cameras) {
     if (!camera.calibrated || !camera.sigma) continue;
     const Eigen::Isometry3d& T = truth.T_cam.at(camera.name);

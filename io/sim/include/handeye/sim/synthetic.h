@@ -85,9 +85,12 @@ struct SigmaCoverage {
   int scenes = 0, cameras = 0;
   int position_within_2sigma = 0, rotation_within_2sigma = 0;
   std::vector<double> position_error_mm, position_sigma_mm;  ///< per camera
+  /// Per scene: the robot pose error σ the solve modelled (0: none).
+  std::vector<double> robot_sigma_mm, robot_sigma_deg;
   std::vector<std::string> failures;  ///< scenes that did not solve, and why
 };
-SigmaCoverage MeasureSigmaCoverage(SceneOptions scene, double noise_px, int seeds, std::uint64_t first_seed);
+SigmaCoverage MeasureSigmaCoverage(SceneOptions scene, double noise_px, int seeds, std::uint64_t first_seed,
+                                   const CalibrationOptions& calibration = CalibrationOptions{});
 /// Adds one solved scene's cameras to `coverage` (its `scenes` too).
 void AddToCoverage(const CalibrationResult& result, const GroundTruth& truth, SigmaCoverage* coverage);
 
