@@ -106,8 +106,8 @@ std::vector<std::string> SvgElements(const std::string& html) {
 }
 
 // Whether `xml` is well formed as far as a browser's parser cares: tags
-// nest and close, no raw '<' or '&' in text or attribute values (only the
-// five entities the writer uses).
+// nest and close, no attribute twice in a tag, no raw '<' or '&' in text or
+// attribute values (only the five entities the writer uses).
 bool WellFormed(const std::string& xml, std::string* why) {
   std::vector<std::string> open;
   const std::regex tag(R"(<(/?)([a-zA-Z]+)((?:\s+[a-zA-Z:-]+="[^"<]*")*)\s*(/?)>)");
@@ -122,6 +122,15 @@ bool WellFormed(const std::string& xml, std::string* why) {
       return false;
     }
     at = it->position() + it->length();
+    const std::string attributes = (*it)[3];
+    const std::regex name(R"(([a-zA-Z:-]+)=")");
+    std::set<std::string> names;
+    for (auto a = std::sregex_iterator(attributes.begin(), attributes.end(), name);
+         a != std::sregex_iterator(); ++a)
+      if (!names.insert((*a)[1]).second) {
+        *why = "attribute " + (*a)[1].str() + " twice in <" + (*it)[2].str() + ">";
+        return false;
+      }
     if ((*it)[4].length()) continue;  // <x ... />
     if ((*it)[1].length() == 0) {
       open.push_back((*it)[2]);

@@ -36,10 +36,10 @@ std::string Histogram(const ReportModel& model, const CameraModel& cam) {
   const double y_top = NiceCeil(std::max(1, *std::max_element(counts.begin(), counts.end())) * 1.12);
   SvgPlot plot(520, 300, cam.camera->name + ": " + std::to_string(residuals.size()) +
                              " point residuals (used views)");
-  plot.SetX(0, x_max, "reprojection error (px)");
-  plot.SetY(0, y_top, "points");
+  plot.x = {0, x_max, "reprojection error (px)"};
+  plot.y = {0, y_top, "points"};
   plot.Frame();
-  Svg& svg = plot.svg();
+  Svg& svg = plot.svg;
   for (int b = 0; b < kBins; ++b) {
     const cv::Scalar fill = ResidualColor(x_max * (b + 0.5) / kBins, model.residual_scale_max_px);
     if (counts[b] > 0)
@@ -51,7 +51,7 @@ std::string Histogram(const ReportModel& model, const CameraModel& cam) {
     return plot.str();
   }
   const double rms = cam.result->rms_px;
-  svg.Line({plot.At(rms, 0), plot.At(rms, y_top)}, kInk, 1, "stroke-dasharray=\"4 4\"");
+  svg.Line({plot.At(rms, 0), plot.At(rms, y_top)}, kInk, 1, {{"stroke-dasharray", "4 4"}});
   // An RMS that is not finite has no line; its label goes to the left.
   svg.Text(plot.At(std::isfinite(rms) ? rms : 0, y_top) + Svg::P(5, 12),
            "RMS " + Num(rms, 3) + " px", 11, kInk);
@@ -67,17 +67,18 @@ std::string ImagePlane(const ReportModel& model, const CameraModel& cam) {
   const double width = 560, right = 96, area_w = width - 72 - right;
   SvgPlot plot(width, area_w * camera.height / std::max(1, camera.width) + 36 + 50,
                camera.name + ": residuals in the image", right);
-  plot.SetX(-0.5, camera.width - 0.5, "u (px)");
-  plot.SetY(-0.5, camera.height - 0.5, "v (px)", true);
+  plot.x = {-0.5, camera.width - 0.5, "u (px)"};
+  plot.y = {-0.5, camera.height - 0.5, "v (px)"};
+  plot.y_down = true;
   plot.EqualAspect();
   // Vectors magnified so the 99th-percentile residual draws ~14 px: long
   // enough to show a pattern, short enough not to cover the others.
   const double magnification =
       std::max(1.0, NiceFloor(14.0 / (std::max(1e-3, model.residual_p99_px) * plot.PxPerUnitX())));
-  plot.SetTitle(camera.name + ": residuals in the image (vectors ×" +
-                TickLabel(magnification, magnification) + ")");
+  plot.title = camera.name + ": residuals in the image (vectors ×" +
+               TickLabel(magnification, magnification) + ")";
   plot.Frame(false);
-  Svg& svg = plot.svg();
+  Svg& svg = plot.svg;
   const double u1 = camera.width - 0.5, v1 = camera.height - 0.5;
   svg.Line({plot.At(-0.5, -0.5), plot.At(u1, -0.5), plot.At(u1, v1), plot.At(-0.5, v1),
             plot.At(-0.5, -0.5)},
@@ -112,36 +113,34 @@ std::string ViewRms(const ReportModel& model) {
   legend.push_back({"rejected view (at 0)", kGrey, Shape::kCross});
   // Views above the range are drawn at its top, marked and labelled.
   SvgPlot plot(1000, 340, "RMS reprojection error per view", SvgPlot::LegendWidth(legend) + 24);
-  plot.SetX(0.5, std::max<double>(model.dataset->poses.size(), 2) + 0.5, "pose (dataset order)");
-  plot.SetY(0, y_max, "view RMS (px)");
+  plot.x = {0.5, std::max<double>(model.dataset->poses.size(), 2) + 0.5, "pose (dataset order)"};
+  plot.y = {0, y_max, "view RMS (px)"};
   plot.Frame();
-  Svg& svg = plot.svg();
+  Svg& svg = plot.svg;
   for (size_t k = 0; k < model.cameras.size(); ++k) {
     const std::string colour = Hex(CameraColor(int(k)));
-    std::vector<std::pair<int, double>> used;  // pose, RMS
+    std::vector<const ViewModel*> used;
     for (int v : model.cameras[k].views) {
       const ViewModel& view = model.views[v];
-      if (!view.T_cam_target) continue;
-      if (view.used)
-        used.emplace_back(view.pose + 1, view.rms_px);
-      else
+      if (view.T_cam_target && view.used)
+        used.push_back(&view);
+      else if (view.T_cam_target)
         svg.Mark(plot.At(view.pose + 1, 0), Shape::kCross, 9, colour, 2);
     }
-    std::sort(used.begin(), used.end());
+    std::sort(used.begin(), used.end(), [](auto* a, auto* b) { return a->pose < b->pose; });
     std::vector<Svg::P> line;
-    for (const auto& [pose, rms] : used) line.push_back(plot.At(pose, std::min(rms, y_max)));
+    for (const ViewModel* view : used)
+      line.push_back(plot.At(view->pose + 1, std::min(view->rms_px, y_max)));
     svg.Line(line, colour);
-    for (int v : model.cameras[k].views) {
-      const ViewModel& view = model.views[v];
-      if (!view.T_cam_target || !view.used) continue;
-      const Svg::P p = plot.At(view.pose + 1, std::min(view.rms_px, y_max));
-      if (view.rms_px > y_max) {
+    for (size_t i = 0; i < used.size(); ++i) {
+      const Svg::P& p = line[i];
+      if (used[i]->rms_px > y_max) {
         svg.Mark(p, Shape::kTriangle, 10, kBad);
-        svg.Text(p + Svg::P(7, 6), Num(view.rms_px, 1), 10, kBad);
+        svg.Text(p + Svg::P(7, 6), Num(used[i]->rms_px, 1), 10, kBad);
       } else {
         svg.Mark(p, Shape::kDisc, 6, colour);
       }
-      if (view.outlier) svg.Mark(p, Shape::kRing, 14, kBad, 2);
+      if (used[i]->outlier) svg.Mark(p, Shape::kRing, 14, kBad, 2);
     }
   }
   plot.Legend(legend);
@@ -195,15 +194,15 @@ std::string Map(const ReportModel& model) {
   legend.push_back({"robot base, x and y axes", "#1e1e1e", Shape::kSquare});
   const double legend_w = SvgPlot::LegendWidth(legend) + 24;
   SvgPlot plot(640 + legend_w, 640, "Cell from above (base frame, z up)", legend_w);
-  plot.SetX(lo.x(), hi.x(), "x_base (m)");
-  plot.SetY(lo.y(), hi.y(), "y_base (m)");
+  plot.x = {lo.x(), hi.x(), "x_base (m)"};
+  plot.y = {lo.y(), hi.y(), "y_base (m)"};
   plot.EqualAspect();
   plot.Frame();
-  Svg& svg = plot.svg();
+  Svg& svg = plot.svg;
   // Sight lines, faint, so the eye sees which camera saw which target pose.
   for (const Sighting& s : sightings)
     svg.Line({plot.At(s.camera_at.head<2>()), plot.At(s.target_at.head<2>())},
-             Hex(CameraColor(s.camera)), 1, "stroke-opacity=\"0.25\"");
+             Hex(CameraColor(s.camera)), 1, {{"stroke-opacity", 0.25}});
   const double arrow = 0.12 * span;
   svg.Arrow(plot.At(0, 0), plot.At(arrow, 0), "#dc2828", 2, 8);
   svg.Arrow(plot.At(0, 0), plot.At(0, arrow), "#28a028", 2, 8);
