@@ -92,7 +92,7 @@ void RegisterReport(CLI::App& app) {
   cmd->add_option("RESULT", args->result, "handeye-result/1 computed from that dataset")
       ->required();
   cmd->add_option("-o,--output", args->output,
-                  "report folder to write (index.html, overlays/, plots/)")
+                  "report folder to write (index.html with the plots, overlays/, thumbs/)")
       ->required();
   cmd->add_option(
       "--observations", args->observations,

@@ -6,13 +6,25 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <opencv2/imgproc.hpp>
 
 namespace handeye::internal {
 
-std::optional<Eigen::Vector2d> RefineXCorner(const cv::Mat& gray, const Eigen::Vector2d& guess,
-                                             const Eigen::Matrix2d& window, double max_shift_px,
-                                             const std::function<bool(int x, int y)>& keep) {
-  if (!guess.allFinite() || !window.allFinite()) return std::nullopt;
+Gradients SobelGradients(const cv::Mat& gray, const cv::Rect& region) {
+  Gradients g;
+  const cv::Rect inside = region & cv::Rect(0, 0, gray.cols, gray.rows);
+  g.origin = inside.tl();
+  if (inside.empty()) return g;
+  // On a region of a larger image OpenCV's filters read the pixels around it;
+  // only the image's own border is repeated.
+  cv::Sobel(gray(inside), g.gx, CV_32F, 1, 0, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+  cv::Sobel(gray(inside), g.gy, CV_32F, 0, 1, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+  return g;
+}
+
+std::optional<Eigen::Vector2d> RefineXCorner(const Gradients& g, const Eigen::Vector2d& guess,
+                                             const Eigen::Matrix2d& window, double max_shift_px) {
+  if (!guess.allFinite() || !window.allFinite() || g.gx.empty()) return std::nullopt;
   const Eigen::JacobiSVD<Eigen::Matrix2d> svd(window);
   const double widest_px = svd.singularValues()(0), narrowest_px = svd.singularValues()(1);
   // Below a pixel across, the window holds no gradient pattern; beyond
@@ -20,58 +32,26 @@ std::optional<Eigen::Vector2d> RefineXCorner(const cv::Mat& gray, const Eigen::V
   if (!(narrowest_px >= 1.0 && widest_px <= 100) || !(max_shift_px >= 0 && max_shift_px <= 100))
     return std::nullopt;
   const Eigen::Matrix2d to_unit = window.inverse();
-  // Pixels the window can reach while the estimate stays within
-  // max_shift_px, plus one for the gradient stencil; clamped in floating
-  // point, so a guess far outside the image cannot overflow the bounds.
-  const double reach = widest_px + max_shift_px + 1.0;
-  auto clamp_to = [](double v, int lo, int hi) {
-    return static_cast<int>(std::clamp(v, static_cast<double>(lo), static_cast<double>(hi)));
-  };
-  const int x0 = clamp_to(std::floor(guess.x() - reach), 1, gray.cols - 2);
-  const int y0 = clamp_to(std::floor(guess.y() - reach), 1, gray.rows - 2);
-  const int x1 = clamp_to(std::ceil(guess.x() + reach), 1, gray.cols - 2);
-  const int y1 = clamp_to(std::ceil(guess.y() + reach), 1, gray.rows - 2);
-  if (x1 - x0 < 2 || y1 - y0 < 2) return std::nullopt;
-  const int w = x1 - x0 + 1, h = y1 - y0 + 1;
-  // 3×3 Sobel gradients at pixel centres (integer coordinates); pixels left
-  // out get no gradient.
-  std::vector<float> gx(static_cast<std::size_t>(w) * h), gy(gx.size());
-  for (int y = y0; y <= y1; ++y) {
-    const auto* up = gray.ptr<std::uint8_t>(y - 1);
-    const auto* mid = gray.ptr<std::uint8_t>(y);
-    const auto* down = gray.ptr<std::uint8_t>(y + 1);
-    for (int x = x0; x <= x1; ++x) {
-      const std::size_t k = static_cast<std::size_t>(y - y0) * w + (x - x0);
-      if (keep && !keep(x, y)) {
-        gx[k] = gy[k] = 0.0f;
-        continue;
-      }
-      gx[k] = static_cast<float>((up[x + 1] - up[x - 1]) + 2 * (mid[x + 1] - mid[x - 1]) +
-                                 (down[x + 1] - down[x - 1]));
-      gy[k] = static_cast<float>((down[x - 1] - up[x - 1]) + 2 * (down[x] - up[x]) +
-                                 (down[x + 1] - up[x + 1]));
-    }
-  }
-
   // Gaussian weight of σ = half the window, in the window's unit coordinates.
   constexpr double kInvTwoSigma2 = 1.0 / (2.0 * 0.5 * 0.5);
+  const int x_end = g.origin.x + g.gx.cols - 1, y_end = g.origin.y + g.gx.rows - 1;
   Eigen::Vector2d c = guess;
   for (int iter = 0; iter < 40; ++iter) {
     Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
     Eigen::Vector2d b = Eigen::Vector2d::Zero();
-    const int ux0 = std::max(x0, static_cast<int>(std::floor(c.x() - widest_px)));
-    const int ux1 = std::min(x1, static_cast<int>(std::ceil(c.x() + widest_px)));
-    const int uy0 = std::max(y0, static_cast<int>(std::floor(c.y() - widest_px)));
-    const int uy1 = std::min(y1, static_cast<int>(std::ceil(c.y() + widest_px)));
-    for (int y = uy0; y <= uy1; ++y) {
-      for (int x = ux0; x <= ux1; ++x) {
-        const Eigen::Vector2d u = to_unit * (Eigen::Vector2d(x, y) - c);
-        const double r2 = u.squaredNorm();
+    const int x0 = std::max(g.origin.x, static_cast<int>(std::floor(c.x() - widest_px)));
+    const int x1 = std::min(x_end, static_cast<int>(std::ceil(c.x() + widest_px)));
+    const int y0 = std::max(g.origin.y, static_cast<int>(std::floor(c.y() - widest_px)));
+    const int y1 = std::min(y_end, static_cast<int>(std::ceil(c.y() + widest_px)));
+    for (int y = y0; y <= y1; ++y) {
+      const float* row_x = g.gx.ptr<float>(y - g.origin.y) - g.origin.x;
+      const float* row_y = g.gy.ptr<float>(y - g.origin.y) - g.origin.x;
+      for (int x = x0; x <= x1; ++x) {
+        const double r2 = (to_unit * (Eigen::Vector2d(x, y) - c)).squaredNorm();
         if (r2 > 1.0) continue;
-        const std::size_t k = static_cast<std::size_t>(y - y0) * w + (x - x0);
-        const double g0 = gx[k], g1 = gy[k];
-        const double wgt = std::exp(-r2 * kInvTwoSigma2);
-        const double a00 = wgt * g0 * g0, a01 = wgt * g0 * g1, a11 = wgt * g1 * g1;
+        const double g0 = row_x[x], g1 = row_y[x];
+        const double w = std::exp(-r2 * kInvTwoSigma2);
+        const double a00 = w * g0 * g0, a01 = w * g0 * g1, a11 = w * g1 * g1;
         A(0, 0) += a00;
         A(0, 1) += a01;
         A(1, 1) += a11;
@@ -81,7 +61,8 @@ std::optional<Eigen::Vector2d> RefineXCorner(const cv::Mat& gray, const Eigen::V
     }
     A(1, 0) = A(0, 1);
     // Both edge directions must be present: a single straight edge (or flat
-    // paper) leaves the point free to slide along it.
+    // paper) leaves the point free to slide along it. Two ideal edges at
+    // angle θ give eigenvalues in the ratio tan²(θ/2): 0.02 is θ = 16°.
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(A, Eigen::EigenvaluesOnly);
     const double lmin = eig.eigenvalues()(0), lmax = eig.eigenvalues()(1);
     if (!(lmax > 0) || lmin < 0.02 * lmax) return std::nullopt;
@@ -93,6 +74,34 @@ std::optional<Eigen::Vector2d> RefineXCorner(const cv::Mat& gray, const Eigen::V
     if (step < 1e-4) break;
   }
   return c;
+}
+
+std::optional<Eigen::Vector2d> RefineXCorner(const cv::Mat& gray, const Eigen::Vector2d& guess,
+                                             const Eigen::Matrix2d& window, double max_shift_px,
+                                             const std::function<bool(int x, int y)>& keep) {
+  if (!guess.allFinite() || !window.allFinite() || !std::isfinite(max_shift_px))
+    return std::nullopt;
+  // Pixels the window can reach while the estimate stays within
+  // max_shift_px, plus one for the gradient stencil; clamped in floating
+  // point, so a guess far outside the image cannot overflow the bounds. The
+  // image's outermost pixels are left out (their gradient is one-sided).
+  const double widest_px = Eigen::JacobiSVD<Eigen::Matrix2d>(window).singularValues()(0);
+  const double reach = std::min(widest_px, 100.0) + std::clamp(max_shift_px, 0.0, 100.0) + 1.0;
+  auto clamp_to = [](double v, int lo, int hi) {
+    return static_cast<int>(std::clamp(v, static_cast<double>(lo), static_cast<double>(hi)));
+  };
+  const int x0 = clamp_to(std::floor(guess.x() - reach), 1, gray.cols - 2);
+  const int y0 = clamp_to(std::floor(guess.y() - reach), 1, gray.rows - 2);
+  const int x1 = clamp_to(std::ceil(guess.x() + reach), 1, gray.cols - 2);
+  const int y1 = clamp_to(std::ceil(guess.y() + reach), 1, gray.rows - 2);
+  if (x1 - x0 < 2 || y1 - y0 < 2) return std::nullopt;
+  Gradients g = SobelGradients(gray, cv::Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1));
+  if (keep) {
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x)
+        if (!keep(x, y)) g.gx.at<float>(y - y0, x - x0) = g.gy.at<float>(y - y0, x - x0) = 0.0f;
+  }
+  return RefineXCorner(g, guess, window, max_shift_px);
 }
 
 std::optional<EdgeLine> FitEdge(const cv::Mat& gray, const Eigen::Vector2d& from,

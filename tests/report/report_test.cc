@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The calibration report: files of a rendered 4-camera cell, marks at the
-// right pixels in the overlays (read back from the PNGs), warnings, and
-// results that do not belong to the dataset.
+// right pixels in the overlays (read back from the PNGs), the plots as inline
+// SVG (escaped text, no NaN), warnings, and results that do not belong to the
+// dataset.
 #include "handeye/report/report.h"
 
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <regex>
@@ -32,7 +34,9 @@ struct Cell {
   CalibrationResult result;
 };
 
-Cell MakeCell(Setup setup, int poses, const std::string& render_dir) {
+// `cam1_name`, when given, renames camera 1 before the calibration.
+Cell MakeCell(Setup setup, int poses, const std::string& render_dir,
+              const std::string& cam1_name = "") {
   SceneOptions options;
   options.cell = "small";
   options.setup = setup;
@@ -50,6 +54,19 @@ Cell MakeCell(Setup setup, int poses, const std::string& render_dir) {
   }
   std::mt19937_64 rng(5);
   AddProjectedObservations(&cell.scene, 0.1, &rng);
+  if (!cam1_name.empty()) {
+    Dataset& dataset = cell.scene.dataset;
+    const std::string old_name = dataset.cameras[1].name;
+    dataset.cameras[1].name = cam1_name;
+    for (Observation& obs : dataset.observations)
+      if (obs.camera == old_name) obs.camera = cam1_name;
+    for (RobotPose& pose : dataset.poses) {
+      const auto image = pose.images.find(old_name);
+      if (image == pose.images.end()) continue;
+      pose.images[cam1_name] = image->second;
+      pose.images.erase(old_name);
+    }
+  }
   cell.result = Calibrate(cell.scene.dataset, CalibrationOptions{});
   return cell;
 }
@@ -62,6 +79,70 @@ std::vector<std::string> LinkedFiles(const std::string& html) {
        ++it)
     files.push_back((*it)[1]);
   return files;
+}
+
+// The inline SVG elements of the page, each from "<svg" to its "</svg>".
+std::vector<std::string> SvgElements(const std::string& html) {
+  std::vector<std::string> out;
+  for (size_t at = html.find("<svg xmlns="); at != std::string::npos;
+       at = html.find("<svg xmlns=", at + 1)) {
+    // Nested <svg> (the clipped data area) closes before the outer one.
+    size_t end = at;
+    for (int depth = 0;;) {
+      const size_t open = html.find("<svg", end + 1), close = html.find("</svg>", end + 1);
+      if (close == std::string::npos) return out;
+      if (open < close) {
+        ++depth;
+        end = open;
+      } else if (depth-- == 0) {
+        out.push_back(html.substr(at, close + 6 - at));
+        break;
+      } else {
+        end = close;
+      }
+    }
+  }
+  return out;
+}
+
+// Whether `xml` is well formed as far as a browser's parser cares: tags
+// nest and close, no attribute twice in a tag, no raw '<' or '&' in text or
+// attribute values (only the five entities the writer uses).
+bool WellFormed(const std::string& xml, std::string* why) {
+  std::vector<std::string> open;
+  const std::regex tag(R"(<(/?)([a-zA-Z]+)((?:\s+[a-zA-Z:-]+="[^"<]*")*)\s*(/?)>)");
+  const std::regex entity(R"(&(amp|lt|gt|quot|#39);)");
+  size_t at = 0;
+  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), tag); it != std::sregex_iterator();
+       ++it) {
+    const std::string text = xml.substr(at, it->position() - at) + (*it)[3].str();
+    if (text.find('<') != std::string::npos ||
+        std::regex_replace(text, entity, "").find('&') != std::string::npos) {
+      *why = "raw < or & near: " + text.substr(0, 80);
+      return false;
+    }
+    at = it->position() + it->length();
+    const std::string attributes = (*it)[3];
+    const std::regex name(R"(([a-zA-Z:-]+)=")");
+    std::set<std::string> names;
+    for (auto a = std::sregex_iterator(attributes.begin(), attributes.end(), name);
+         a != std::sregex_iterator(); ++a)
+      if (!names.insert((*a)[1]).second) {
+        *why = "attribute " + (*a)[1].str() + " twice in <" + (*it)[2].str() + ">";
+        return false;
+      }
+    if ((*it)[4].length()) continue;  // <x ... />
+    if ((*it)[1].length() == 0) {
+      open.push_back((*it)[2]);
+    } else if (open.empty() || open.back() != (*it)[2]) {
+      *why = "unbalanced </" + (*it)[2].str() + ">";
+      return false;
+    } else {
+      open.pop_back();
+    }
+  }
+  *why = open.empty() ? "" : "unclosed <" + open.back() + ">";
+  return open.empty() && at == xml.size();
 }
 
 // Weighted centroid, around `centre` within `radius` pixels, of how much each
@@ -131,7 +212,31 @@ TEST_CASE("report of a rendered 4-camera cell: files, links and marks at the rig
   const int views = static_cast<int>(dataset.observations.size());
   CHECK(overlays == views + std::min(views, 10));
   CHECK(thumbs == views + std::min(views, 10));
-  CHECK(plots == 2 * 4 + 2);  // histogram and image plane per camera, view RMS, map
+  // The plots are inline SVG, not image files: histogram and image plane
+  // per camera, view RMS, map; each well formed, with its axes labelled.
+  CHECK(plots == 0);
+  CHECK_FALSE(fs::exists(dir + "/report/plots"));
+  for (const auto& entry : fs::recursive_directory_iterator(dir + "/report")) {
+    const std::string relative = fs::relative(entry.path(), dir + "/report").string();
+    INFO(relative);
+    CHECK((entry.is_directory() || relative == "index.html" ||
+           relative.rfind("overlays/", 0) == 0 || relative.rfind("thumbs/", 0) == 0));
+  }
+  const auto svgs = SvgElements(html);
+  REQUIRE(svgs.size() == 2 * 4 + 2);
+  for (const auto& svg : svgs) {
+    std::string why;
+    const bool well_formed = WellFormed(svg, &why);
+    INFO(why);
+    CHECK(well_formed);
+  }
+  CHECK_THAT(svgs[0], Contains("Cell from above") && Contains(">x_base (m)</text>") &&
+                          Contains(">y_base (m)</text>") && Contains("° down)</text>"));
+  CHECK_THAT(svgs[1], Contains(">view RMS (px)</text>") && Contains(">pose (dataset order)</text>"));
+  CHECK_THAT(svgs[2], Contains(">cam0: ") && Contains(">reprojection error (px)</text>") &&
+                          Contains(">points</text>") && Contains(">RMS "));
+  CHECK_THAT(svgs[6], Contains("cam0: residuals in the image (vectors ×") &&
+                          Contains(">u (px)</text>") && Contains(">v (px)</text>"));
 
   // The overlays: rings at the detected pixels and crosses at the pixels
   // predicted through the calibrated chain, to a fraction of a pixel (an
@@ -271,13 +376,50 @@ TEST_CASE("report of an eye-in-hand cell without images", "[report]") {
   CHECK(summary.overlays == static_cast<int>(cell.scene.dataset.observations.size()));
   CHECK_THAT(test::ReadText(dir + "/index.html"),
              Contains("T_ee_cam") && Contains("T_base_target"));
-  const cv::Mat map = cv::imread(dir + "/plots/map.png");
-  CHECK(!map.empty());
+  const std::string html = test::ReadText(dir + "/index.html");
+  CHECK_THAT(html, Contains("Cell from above") && Contains(">target (fixed)</text>") &&
+                       Contains(">camera at a pose, view axis</text>"));
+  CHECK_FALSE(fs::exists(dir + "/plots"));
   // No images: the overlays are drawn on a neutral canvas of the camera's size.
   const Observation& first = cell.scene.dataset.observations.front();
   const cv::Mat overlay =
       cv::imread(dir + "/overlays/" + first.camera + "/" + first.pose_id + ".png");
   CHECK(overlay.cols == cell.scene.dataset.cameras[0].width);
+}
+
+TEST_CASE("report plots escape camera names and leave out what is not finite", "[report]") {
+  const std::string dir = test::TempDir("report_svg_text");
+  const std::string name = "cam<&>\"1'";
+  Cell cell = MakeCell(Setup::kEyeToHand, 8, "", name);
+  REQUIRE(cell.result.cameras[1].name == name);
+  REQUIRE(cell.result.cameras[1].calibrated);
+  // NaN where a broken input or solve would put it: a detected point, a view's
+  // RMS and a camera's RMS.
+  Dataset& dataset = cell.scene.dataset;
+  dataset.observations.front().points_px.front().x() = std::nan("");
+  REQUIRE(!cell.result.views.empty());
+  cell.result.views.front().rms_px = std::numeric_limits<double>::quiet_NaN();
+  cell.result.cameras[0].rms_px = std::numeric_limits<double>::infinity();
+  ReportOptions options;
+  options.threads = 1;
+  WriteReport(dataset, cell.result, dir, options);
+  const std::string html = test::ReadText(dir + "/index.html");
+  CHECK(html.find("<&>") == std::string::npos);
+  const auto svgs = SvgElements(html);
+  REQUIRE(svgs.size() == 2 * 4 + 2);
+  const std::regex not_finite(R"(\b(nan|inf|infinity)\b)", std::regex::icase);
+  for (const auto& svg : svgs) {
+    std::string why;
+    const bool well_formed = WellFormed(svg, &why);
+    INFO(why);
+    CHECK(well_formed);
+    CHECK_FALSE(std::regex_search(svg, not_finite));
+  }
+  const std::string escaped = "cam&lt;&amp;&gt;&quot;1&#39;";
+  CHECK_THAT(svgs[0], Contains(">" + escaped + " (z "));          // map label
+  CHECK_THAT(svgs[1], Contains(">" + escaped + "</text>"));       // legend
+  CHECK_THAT(svgs[3], Contains(">" + escaped + ": "));            // histogram title
+  CHECK_THAT(svgs[2], Contains(">RMS n/a px</text>"));           // cam0's RMS is not finite
 }
 
 TEST_CASE("report refuses a result of another dataset", "[report]") {

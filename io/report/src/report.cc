@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // WriteReport(): builds the model, draws the overlays on a pool of workers
-// (one image in memory per worker) while the main thread draws the plots,
-// then writes index.html last.
+// (one image in memory per worker) while another thread draws the plots,
+// then writes index.html, with the plots inline, last.
 #include "handeye/report/report.h"
 
 #include <algorithm>
@@ -69,7 +69,6 @@ ReportSummary WriteReport(const Dataset& dataset, const CalibrationResult& resul
 
   const std::filesystem::path root(dir);
   MakeFolder(root);
-  MakeFolder(root / "plots");
   for (const report::CameraModel& cam : model.cameras) {
     MakeFolder(root / "overlays" / cam.folder);
     MakeFolder(root / "thumbs" / cam.folder);
@@ -80,9 +79,9 @@ ReportSummary WriteReport(const Dataset& dataset, const CalibrationResult& resul
   // turns on libpng's adaptive filter search) for files ~40 % larger.
   const std::vector<int> png_params;
   const std::vector<int> jpeg_params = {cv::IMWRITE_JPEG_QUALITY, 85};
-  // The plots are drawn meanwhile; they only read the model.
-  std::future<report::PlotFiles> plots_drawn =
-      std::async(std::launch::async, [&model, &dir] { return report::WritePlots(model, dir); });
+  // The plots (SVG for index.html) are drawn meanwhile; they only read the model.
+  std::future<report::Plots> plots_drawn =
+      std::async(std::launch::async, [&model] { return report::DrawPlots(model); });
   // Overlays: each worker loads, draws and writes one view at a time.
   const std::size_t total = model.views.size();
   std::exception_ptr overlay_error;
@@ -111,7 +110,7 @@ ReportSummary WriteReport(const Dataset& dataset, const CalibrationResult& resul
     overlay_error = std::current_exception();
   }
   // Waited for in any case: the plotting thread reads the model.
-  const report::PlotFiles plots = plots_drawn.get();
+  const report::Plots plots = plots_drawn.get();
   if (overlay_error) std::rethrow_exception(overlay_error);
 
   ReportSummary summary;

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// The report's index.html: one self-contained page (inline CSS, relative
-// image links, no JavaScript, no network) that opens from disk.
+// The report's index.html: one self-contained page (inline CSS and SVG
+// plots, relative image links, no JavaScript, no network) that opens from disk.
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -40,11 +41,22 @@ std::string Escape(const std::string& text) {
 }
 
 std::string Num(double value, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, value);
-  std::string s = buf;
+  if (!std::isfinite(value)) return "n/a";
+  // to_chars, unlike printf, ignores the locale: always a decimal point.
+  char buf[400];
+  const auto end = std::to_chars(buf, buf + sizeof buf, value, std::chars_format::fixed,
+                                 std::clamp(decimals, 0, 17));
+  std::string s(buf, end.ec == std::errc() ? end.ptr : buf);
   if (s.find_first_not_of("-0.") == std::string::npos && s[0] == '-') s.erase(0, 1);  // no "-0.00"
   return s;
+}
+
+std::string TickLabel(double value, double step) {
+  int decimals = 0;
+  for (double scaled = step; decimals < 6 && std::abs(scaled - std::round(scaled)) > 1e-6 * scaled;
+       scaled *= 10)
+    ++decimals;
+  return Num(value, decimals);
 }
 
 std::string Triple(const Eigen::Vector3d& v, int decimals) {
@@ -88,7 +100,7 @@ th { background: #eef0f3; font-weight: 600; }
 td.name, th.name { text-align: left; }
 tr.flag td { background: #fff4e0; }
 .swatch { display: inline-block; width: 10px; height: 10px; border-radius: 2px; margin-right: 6px; }
-.plots img, .grid img { border: 1px solid #ddd; background: white; }
+.plots svg, .grid img { border: 1px solid #ddd; background: white; }
 .plots { display: flex; flex-wrap: wrap; gap: 10px; align-items: flex-start; }
 .grid { display: flex; flex-wrap: wrap; gap: 10px; }
 figure { margin: 0; background: white; border: 1px solid #e2e2e2; padding: 4px; }
@@ -124,7 +136,7 @@ std::string Figure(const ReportModel& model, const ViewModel& view, int thumb_w)
 // the camera's position and orientation uncertainty where a user places things.
 }  // namespace
 
-std::string RenderHtml(const ReportModel& model, const PlotFiles& plots,
+std::string RenderHtml(const ReportModel& model, const Plots& plots,
                        const ReportOptions& options) {
   const Dataset& dataset = *model.dataset;
   const CalibrationResult& result = *model.result;
@@ -168,17 +180,11 @@ std::string RenderHtml(const ReportModel& model, const PlotFiles& plots,
   IntrinsicsTable(model, out);
   SharedAndPairs(model, out);
 
-  out << "<h2 id=\"plots\">Plots</h2>\n<div class=\"plots\">\n<img src=\"" << plots.map
-      << "\" alt=\"map of the cell from above\">\n<img src=\"" << plots.view_rms
-      << "\" alt=\"RMS per view over the poses\">\n</div>\n<h3>Residual histograms</h3>\n<div "
-         "class=\"plots\">\n";
-  for (size_t k = 0; k < plots.histograms.size(); ++k)
-    out << "<img src=\"" << plots.histograms[k] << "\" alt=\"residual histogram of "
-        << Escape(model.cameras[k].camera->name) << "\">\n";
+  out << "<h2 id=\"plots\">Plots</h2>\n<div class=\"plots\">\n"
+      << plots.map << plots.view_rms << "</div>\n<h3>Residual histograms</h3>\n<div class=\"plots\">\n";
+  for (const std::string& svg : plots.histograms) out << svg;
   out << "</div>\n<h3>Residuals in the image plane</h3>\n<div class=\"plots\">\n";
-  for (size_t k = 0; k < plots.image_plane.size(); ++k)
-    out << "<img src=\"" << plots.image_plane[k] << "\" alt=\"image-plane residuals of "
-        << Escape(model.cameras[k].camera->name) << "\">\n";
+  for (const std::string& svg : plots.image_plane) out << svg;
   out << "</div>\n";
 
   // Worst views first: they are where a problem shows.

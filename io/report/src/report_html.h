@@ -13,8 +13,11 @@ namespace handeye::report {
 
 /// Text with &, <, >, " and ' escaped for HTML.
 std::string Escape(const std::string& text);
-/// A number with `decimals` decimals, never "-0.00".
+/// A number with `decimals` decimals in the same form in every locale
+/// ("-1.25"), never "-0.00"; "n/a" for NaN and infinities.
 std::string Num(double value, int decimals);
+/// A tick label with just the decimals a tick step needs ("0.25", "10", "-3").
+std::string TickLabel(double value, double step);
 /// "x, y, z" with `decimals` decimals.
 std::string Triple(const Eigen::Vector3d& v, int decimals);
 /// "x, y, z, w" of a rotation's quaternion (w ≥ 0).

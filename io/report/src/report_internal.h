@@ -2,7 +2,7 @@
 #pragma once
 // Internal pieces of the report writer (report.h), shared by its files:
 // the model (what every view and camera looks like under the result), the
-// overlays, the plots and the HTML.
+// overlays, the plots (SVG) and the HTML.
 
 #include <Eigen/Geometry>
 #include <opencv2/core/mat.hpp>
@@ -95,18 +95,22 @@ cv::Scalar ResidualColor(double residual_px, double scale_max_px);
 /// A distinct colour per camera index (BGR).
 cv::Scalar CameraColor(int camera);
 
-/// Writes the plots into `dir`/plots/ and returns their paths relative to `dir`:
-/// entries named "histogram/<camera>", "image_plane/<camera>", "view_rms", "map".
-struct PlotFiles {
-  std::vector<std::string> histograms;   ///< per camera (model order)
-  std::vector<std::string> image_plane;  ///< per camera
-  std::string view_rms;
-  std::string map;
+/// The plots as inline SVG elements for index.html.
+struct Plots {
+  std::vector<std::string> histograms;   ///< residual histogram per camera (model order)
+  std::vector<std::string> image_plane;  ///< residuals in the image plane per camera
+  std::string view_rms;                  ///< RMS per view over the poses
+  std::string map;                       ///< the cell from above
 };
-PlotFiles WritePlots(const ReportModel& model, const std::string& dir);
+Plots DrawPlots(const ReportModel& model);
+
+/// Smallest 1, 2 or 5 × 10^k ≥ `value`; 1 for a value that is not finite and positive.
+double NiceCeil(double value);
+/// Largest 1, 2 or 5 × 10^k ≤ `value`; 1 for a value that is not finite and positive.
+double NiceFloor(double value);
 
 /// The HTML page.
-std::string RenderHtml(const ReportModel& model, const PlotFiles& plots,
+std::string RenderHtml(const ReportModel& model, const Plots& plots,
                        const ReportOptions& options);
 
 }  // namespace handeye::report

@@ -53,16 +53,23 @@ double Rms(const std::vector<std::optional<Eigen::Vector2d>>& predicted,
   return n ? std::sqrt(sum / n) : 0.0;
 }
 
-// Smallest 1, 2 or 5 × 10^k that is >= value.
+}  // namespace
+
 double NiceCeil(double value) {
-  if (!(value > 0)) return 1.0;
+  if (!(value > 0) || !std::isfinite(value)) return 1.0;
   const double decade = std::pow(10.0, std::floor(std::log10(value)));
   for (double m : {1.0, 2.0, 5.0, 10.0})
     if (m * decade >= value * (1 - 1e-12)) return m * decade;
   return 10.0 * decade;
 }
 
-}  // namespace
+double NiceFloor(double value) {
+  if (!(value > 0) || !std::isfinite(value)) return 1.0;
+  const double decade = std::pow(10.0, std::floor(std::log10(value)));
+  for (double m : {5.0, 2.0, 1.0})
+    if (m * decade <= value * (1 + 1e-12)) return m * decade;
+  return decade;
+}
 
 std::string SafeFileName(const std::string& name) {
   std::string out;
@@ -200,7 +207,9 @@ ReportModel BuildModel(const Dataset& dataset, const CalibrationResult& result,
       continue;
     }
     ++cam.used;
-    all_residuals.insert(all_residuals.end(), view.residual_px.begin(), view.residual_px.end());
+    // A non-finite residual (a NaN in the data) has no place on a scale.
+    for (double r : view.residual_px)
+      if (std::isfinite(r)) all_residuals.push_back(r);
   }
 
   // One colour scale for the whole report: up to the 99th percentile of the

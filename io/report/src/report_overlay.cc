@@ -10,8 +10,9 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "report_draw.h"
+#include "report_html.h"
 #include "report_internal.h"
-#include "report_plot.h"
 
 namespace handeye::report {
 namespace {
@@ -27,20 +28,6 @@ const cv::Scalar kBad(40, 40, 230), kWarn(0, 150, 255), kGood(90, 200, 90);
 // the cyan rings and magenta crosses (and are not mistaken for them by a
 // colour test: neither B ≈ G ≫ R nor B ≈ R ≫ G).
 const cv::Scalar kCrossColors[] = {{255, 144, 30}, {255, 255, 255}, {180, 105, 255}, {0, 140, 255}};
-
-std::string Format(const char* format, double value) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, value);
-  return buf;
-}
-
-// Largest 1, 2 or 5 × 10^k that is <= value.
-double NiceFloor(double value) {
-  const double decade = std::pow(10.0, std::floor(std::log10(value)));
-  for (double m : {5.0, 2.0, 1.0})
-    if (m * decade <= value * (1 + 1e-12)) return m * decade;
-  return decade;
-}
 
 void Darken(cv::Mat* image, const cv::Rect& rect, double keep) {
   const cv::Rect r = rect & cv::Rect(0, 0, image->cols, image->rows);
@@ -127,7 +114,7 @@ void DrawHeader(cv::Mat* image, const ReportModel& model, const ViewModel& view,
                      std::to_string(model.dataset->poses.size()) + ")   " +
                      std::to_string(view.observation->ids.size()) + " points";
   if (view.T_cam_target)
-    text += "   RMS " + Format("%.3f", view.rms_px) + " px   max " + Format("%.3f", view.max_px) +
+    text += "   RMS " + Num(view.rms_px, 3) + " px   max " + Num(view.max_px, 3) +
             " px";
   std::string status = "used by the solver";
   cv::Scalar color = kGood;
@@ -144,7 +131,7 @@ void DrawHeader(cv::Mat* image, const ReportModel& model, const ViewModel& view,
   std::string cross;
   for (const CrossPrediction& c : view.cross)
     cross += (cross.empty() ? "predicted via " : "   via ") +
-             model.cameras[c.other_camera].camera->name + ": RMS " + Format("%.3f", c.rms_px) +
+             model.cameras[c.other_camera].camera->name + ": RMS " + Num(c.rms_px, 3) +
              " px";
   // The status goes right of the first line when it fits, else on its own line.
   const double status_h = h * 0.9;

@@ -1,111 +1,89 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// The report's plots, drawn with report_plot.h: residual histograms and
+// The report's plots, as SVG (report_svg.h): residual histograms and
 // image-plane residuals per camera, per-view RMS over the poses, and a
 // top-down map of the cell.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <filesystem>
-#include <opencv2/imgproc.hpp>
 
 #include "handeye/core/setup_frames.h"
-#include "handeye/io/image.h"
+#include "report_html.h"
 #include "report_internal.h"
-#include "report_plot.h"
+#include "report_svg.h"
 
 namespace handeye::report {
 namespace {
 
-const cv::Scalar kInk(40, 40, 40);
-const cv::Scalar kBad(40, 40, 220);
+const char* kInk = "#282828";
+const char* kBad = "#dc2828";
+const char* kGrey = "#5a5a5a";
 
-std::string Format(const char* format, double value) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, value);
-  return buf;
-}
-
-double NiceCeil(double value) {
-  if (!(value > 0)) return 1.0;
-  const double decade = std::pow(10.0, std::floor(std::log10(value)));
-  for (double m : {1.0, 2.0, 2.5, 5.0, 10.0})
-    if (m * decade >= value * (1 - 1e-12)) return m * decade;
-  return 10 * decade;
-}
-
-double NiceFloor(double value) {
-  const double decade = std::pow(10.0, std::floor(std::log10(value)));
-  for (double m : {5.0, 2.0, 1.0})
-    if (m * decade <= value * (1 + 1e-12)) return m * decade;
-  return decade;
-}
-
-cv::Mat Histogram(const ReportModel& model, const CameraModel& cam) {
+std::string Histogram(const ReportModel& model, const CameraModel& cam) {
   std::vector<double> residuals;
   for (int v : cam.views)
     if (model.views[v].used)
-      residuals.insert(residuals.end(), model.views[v].residual_px.begin(),
-                       model.views[v].residual_px.end());
+      for (double r : model.views[v].residual_px)
+        if (std::isfinite(r)) residuals.push_back(r);
   // One range for every camera's histogram, so they compare at a glance.
   const double x_max = NiceCeil(std::max(1e-3, 1.15 * model.residual_p99_px));
   constexpr int kBins = 25;
   std::vector<int> counts(kBins, 0);
   int beyond = 0;
   for (double r : residuals) {
-    if (r >= x_max) {
+    if (r >= x_max)
       ++beyond;
-      continue;
-    }
-    ++counts[std::min(kBins - 1, static_cast<int>(r / x_max * kBins))];
+    else
+      ++counts[std::min(kBins - 1, static_cast<int>(r / x_max * kBins))];
   }
-  const int top = std::max(1, *std::max_element(counts.begin(), counts.end()));
-  Plot plot(
-      520, 300,
-      cam.camera->name + ": " + std::to_string(residuals.size()) + " point residuals (used views)");
-  plot.SetX(0, x_max, "reprojection error (px)");
-  plot.SetY(0, NiceCeil(top * 1.12), "points");
-  plot.DrawFrame();
-  for (int b = 0; b < kBins; ++b)
+  const double y_top = NiceCeil(std::max(1, *std::max_element(counts.begin(), counts.end())) * 1.12);
+  SvgPlot plot(520, 300, cam.camera->name + ": " + std::to_string(residuals.size()) +
+                             " point residuals (used views)");
+  plot.x = {0, x_max, "reprojection error (px)"};
+  plot.y = {0, y_top, "points"};
+  plot.Frame();
+  Svg& svg = plot.svg;
+  for (int b = 0; b < kBins; ++b) {
+    const cv::Scalar fill = ResidualColor(x_max * (b + 0.5) / kBins, model.residual_scale_max_px);
     if (counts[b] > 0)
-      plot.Bar(x_max * b / kBins, x_max * (b + 1) / kBins, counts[b],
-               ResidualColor(x_max * (b + 0.5) / kBins, model.residual_scale_max_px));
-  if (!residuals.empty()) {
-    const double y_top = NiceCeil(top * 1.12);
-    const double rms = cam.result->rms_px;
-    plot.DashedLine({rms, 0}, {rms, y_top}, kInk);
-    plot.Label({rms, y_top}, "RMS " + Format("%.3f", rms) + " px", kInk, 5, 6, {0, 0}, 11);
-    if (beyond > 0)
-      plot.Label({x_max, y_top}, std::to_string(beyond) + " beyond " + Format("%g", x_max) + " px",
-                 kBad, -6, 24, {1, 0}, 11);
-  } else {
-    plot.Label({x_max / 2, 0.5}, "no used views", kInk, 0, 0, {0.5, 0.5}, 14);
+      svg.Rect(plot.At(x_max * b / kBins, 0), plot.At(x_max * (b + 1) / kBins, counts[b]),
+               Hex(fill), Hex(0.7 * fill));
   }
-  return plot.image();
+  if (residuals.empty()) {
+    svg.Text(plot.At(x_max / 2, y_top / 2), "no used views", 14, kInk, "middle");
+    return plot.str();
+  }
+  const double rms = cam.result->rms_px;
+  svg.Line({plot.At(rms, 0), plot.At(rms, y_top)}, kInk, 1, {{"stroke-dasharray", "4 4"}});
+  // An RMS that is not finite has no line; its label goes to the left.
+  svg.Text(plot.At(std::isfinite(rms) ? rms : 0, y_top) + Svg::P(5, 12),
+           "RMS " + Num(rms, 3) + " px", 11, kInk);
+  if (beyond > 0)
+    svg.Text(plot.At(x_max, y_top) + Svg::P(-6, 30),
+             std::to_string(beyond) + " beyond " + TickLabel(x_max, x_max) + " px", 11, kBad,
+             "end");
+  return plot.str();
 }
 
-cv::Mat ImagePlane(const ReportModel& model, const CameraModel& cam) {
+std::string ImagePlane(const ReportModel& model, const CameraModel& cam) {
   const Camera& camera = *cam.camera;
-  const int width = 560;
-  const int area_w = width - 78 - 90;
-  const int height = static_cast<int>(area_w * double(camera.height) / camera.width) + 38 + 52;
-  Plot plot(width, height, "title", 90);
-  plot.SetX(-0.5, camera.width - 0.5, "u (px)");
-  plot.SetY(-0.5, camera.height - 0.5, "v (px)", true);
+  const double width = 560, right = 96, area_w = width - 72 - right;
+  SvgPlot plot(width, area_w * camera.height / std::max(1, camera.width) + 36 + 50,
+               camera.name + ": residuals in the image", right);
+  plot.x = {-0.5, camera.width - 0.5, "u (px)"};
+  plot.y = {-0.5, camera.height - 0.5, "v (px)"};
+  plot.y_down = true;
   plot.EqualAspect();
-  // Vectors magnified so the 99th-percentile residual draws ~14 plot pixels:
-  // long enough to show a pattern, short enough not to cover the others.
+  // Vectors magnified so the 99th-percentile residual draws ~14 px: long
+  // enough to show a pattern, short enough not to cover the others.
   const double magnification =
       std::max(1.0, NiceFloor(14.0 / (std::max(1e-3, model.residual_p99_px) * plot.PxPerUnitX())));
-  plot.SetTitle(cam.camera->name + ": residuals in the image (vectors x" +
-                TickLabel(magnification, magnification) + ")");
-  plot.DrawFrame(false);
-  // The sensor's outline, then the points on it.
-  plot.Line({{-0.5, -0.5},
-             {camera.width - 0.5, -0.5},
-             {camera.width - 0.5, camera.height - 0.5},
-             {-0.5, camera.height - 0.5},
-             {-0.5, -0.5}},
-            {160, 160, 160}, 1);
+  plot.title = camera.name + ": residuals in the image (vectors ×" +
+               TickLabel(magnification, magnification) + ")";
+  plot.Frame(false);
+  Svg& svg = plot.svg;
+  const double u1 = camera.width - 0.5, v1 = camera.height - 0.5;
+  svg.Line({plot.At(-0.5, -0.5), plot.At(u1, -0.5), plot.At(u1, v1), plot.At(-0.5, v1),
+            plot.At(-0.5, -0.5)},
+           "#a0a0a0");  // the sensor's outline
   for (int v : cam.views) {
     const ViewModel& view = model.views[v];
     if (!view.used) continue;
@@ -113,68 +91,65 @@ cv::Mat ImagePlane(const ReportModel& model, const CameraModel& cam) {
       if (!view.predicted_px[i]) continue;
       const Eigen::Vector2d& d = view.observation->points_px[i];
       const Eigen::Vector2d r = d - *view.predicted_px[i];
-      const cv::Scalar color = ResidualColor(r.norm(), model.residual_scale_max_px);
-      plot.Line({d, d + magnification * r}, color, 1);
-      plot.Point(d, Marker::kDisc, 3, color);
+      const std::string colour = Hex(ResidualColor(r.norm(), model.residual_scale_max_px));
+      svg.Line({plot.At(d), plot.At(d + magnification * r)}, colour);
+      svg.Mark(plot.At(d), Shape::kDisc, 3, colour);
     }
   }
   plot.ColorBar(0, model.residual_scale_max_px, "reprojection error (px)",
                 [&](double v) { return ResidualColor(v, model.residual_scale_max_px); });
-  return plot.image();
+  return plot.str();
 }
 
-cv::Mat ViewRms(const ReportModel& model) {
-  const int poses = static_cast<int>(model.dataset->poses.size());
+std::string ViewRms(const ReportModel& model) {
   double y_max = 0;
   for (const ViewModel& v : model.views)
-    if (v.used && !v.outlier && v.T_cam_target) y_max = std::max(y_max, v.rms_px);
+    if (v.used && !v.outlier && v.T_cam_target && std::isfinite(v.rms_px))
+      y_max = std::max(y_max, v.rms_px);
   y_max = NiceCeil(std::max(y_max * 1.2, 0.1));
-  std::vector<LegendEntry> legend;
+  std::vector<SvgPlot::LegendEntry> legend;
   for (size_t k = 0; k < model.cameras.size(); ++k)
-    legend.push_back(
-        {model.cameras[k].camera->name, CameraColor(static_cast<int>(k)), Marker::kDisc});
-  legend.push_back({"outlier (down-weighted)", kBad, Marker::kCircle});
-  legend.push_back({"rejected view (at 0)", {90, 90, 90}, Marker::kCross});
-  // Outliers above the range are clipped to its top and labelled.
-  Plot plot(1000, 340, "RMS reprojection error per view", Plot::LegendWidth(legend) + 24);
-  plot.SetX(0.5, std::max(poses, 2) + 0.5, "pose (dataset order)");
-  plot.SetY(0, y_max, "view RMS (px)");
-  plot.DrawFrame();
+    legend.push_back({model.cameras[k].camera->name, Hex(CameraColor(int(k))), Shape::kDisc});
+  legend.push_back({"outlier (down-weighted)", kBad, Shape::kRing});
+  legend.push_back({"rejected view (at 0)", kGrey, Shape::kCross});
+  // Views above the range are drawn at its top, marked and labelled.
+  SvgPlot plot(1000, 340, "RMS reprojection error per view", SvgPlot::LegendWidth(legend) + 24);
+  plot.x = {0.5, std::max<double>(model.dataset->poses.size(), 2) + 0.5, "pose (dataset order)"};
+  plot.y = {0, y_max, "view RMS (px)"};
+  plot.Frame();
+  Svg& svg = plot.svg;
   for (size_t k = 0; k < model.cameras.size(); ++k) {
-    const CameraModel& cam = model.cameras[k];
-    const cv::Scalar color = CameraColor(static_cast<int>(k));
-    std::vector<Eigen::Vector2d> line;
-    for (int v : cam.views) {
+    const std::string colour = Hex(CameraColor(int(k)));
+    std::vector<const ViewModel*> used;
+    for (int v : model.cameras[k].views) {
       const ViewModel& view = model.views[v];
-      if (!view.T_cam_target) continue;
-      const Eigen::Vector2d p(view.pose + 1, std::min(view.rms_px, y_max));
-      if (!view.used) {
-        plot.Point({view.pose + 1.0, 0.0}, Marker::kCross, 9, color, 2);
-        continue;
-      }
-      line.push_back(p);
+      if (view.T_cam_target && view.used)
+        used.push_back(&view);
+      else if (view.T_cam_target)
+        svg.Mark(plot.At(view.pose + 1, 0), Shape::kCross, 9, colour, 2);
     }
-    std::sort(line.begin(), line.end(), [](const auto& a, const auto& b) { return a.x() < b.x(); });
-    plot.Line(line, color, 1);
-    for (int v : cam.views) {
-      const ViewModel& view = model.views[v];
-      if (!view.T_cam_target || !view.used) continue;
-      const Eigen::Vector2d p(view.pose + 1, std::min(view.rms_px, y_max));
-      if (view.rms_px > y_max) {
-        plot.Point(p, Marker::kTriangle, 10, kBad);
-        plot.Label(p, Format("%.1f", view.rms_px), kBad, 7, 2, {0, 0}, 10);
+    std::sort(used.begin(), used.end(), [](auto* a, auto* b) { return a->pose < b->pose; });
+    std::vector<Svg::P> line;
+    for (const ViewModel* view : used)
+      line.push_back(plot.At(view->pose + 1, std::min(view->rms_px, y_max)));
+    svg.Line(line, colour);
+    for (size_t i = 0; i < used.size(); ++i) {
+      const Svg::P& p = line[i];
+      if (used[i]->rms_px > y_max) {
+        svg.Mark(p, Shape::kTriangle, 10, kBad);
+        svg.Text(p + Svg::P(7, 6), Num(used[i]->rms_px, 1), 10, kBad);
       } else {
-        plot.Point(p, Marker::kDisc, 6, color);
+        svg.Mark(p, Shape::kDisc, 6, colour);
       }
-      if (view.outlier) plot.Point(p, Marker::kCircle, 14, kBad, 2);
+      if (used[i]->outlier) svg.Mark(p, Shape::kRing, 14, kBad, 2);
     }
   }
-  plot.Legend(legend, Plot::Place::kMargin);
-  return plot.image();
+  plot.Legend(legend);
+  return plot.str();
 }
 
 // Top-down map in the base frame (z up): x right, y up.
-cv::Mat Map(const ReportModel& model) {
+std::string Map(const ReportModel& model) {
   const Dataset& dataset = *model.dataset;
   const CalibrationResult& result = *model.result;
   const SetupFrames frames = FramesOf(dataset.setup);
@@ -188,7 +163,7 @@ cv::Mat Map(const ReportModel& model) {
     Eigen::Vector3d camera_at, target_at, view_dir;  // base frame
   };
   std::vector<Sighting> sightings;
-  std::vector<Eigen::Vector3d> extent_points = {Eigen::Vector3d::Zero()};
+  Eigen::Vector2d lo = Eigen::Vector2d::Zero(), hi = lo;  // the base is always in view
   for (const ViewModel& view : model.views) {
     const CameraModel& cam = model.cameras[view.camera];
     if (!cam.result->calibrated || !view.used) continue;
@@ -197,108 +172,92 @@ cv::Mat Map(const ReportModel& model) {
     // T_cam is T_mount_cam and Z T_holder_target; one of mount and holder is the base.
     const Eigen::Isometry3d T_base_target = frames.BaseFromHolder(T_base_ee) * Z;
     const Eigen::Isometry3d T_base_cam = frames.BaseFromMount(T_base_ee) * cam.result->T_cam;
-    sightings.push_back({view.camera, T_base_cam.translation(), T_base_target * target_centre,
-                         T_base_cam.rotation().col(2)});
-    extent_points.push_back(sightings.back().camera_at);
-    extent_points.push_back(sightings.back().target_at);
-  }
-  Eigen::Vector2d lo = extent_points[0].head<2>(), hi = lo;
-  for (const auto& p : extent_points) {
-    lo = lo.cwiseMin(p.head<2>());
-    hi = hi.cwiseMax(p.head<2>());
+    const Sighting s{view.camera, T_base_cam.translation(), T_base_target * target_centre,
+                     T_base_cam.rotation().col(2)};
+    if (!s.camera_at.allFinite() || !s.target_at.allFinite()) continue;
+    sightings.push_back(s);
+    for (const Eigen::Vector3d& p : {s.camera_at, s.target_at}) {
+      lo = lo.cwiseMin(p.head<2>());
+      hi = hi.cwiseMax(p.head<2>());
+    }
   }
   const double span = std::max(0.5, (hi - lo).maxCoeff());
   // Room around the outermost items for markers and arrows.
   lo -= Eigen::Vector2d::Constant(0.12 * span);
   hi += Eigen::Vector2d::Constant(0.12 * span);
-  std::vector<LegendEntry> legend;
+  std::vector<SvgPlot::LegendEntry> legend;
   for (size_t k = 0; k < model.cameras.size(); ++k)
-    legend.push_back(
-        {model.cameras[k].camera->name, CameraColor(static_cast<int>(k)), Marker::kTriangle});
+    legend.push_back({model.cameras[k].camera->name, Hex(CameraColor(int(k))), Shape::kTriangle});
+  legend.push_back({cameras_on_base ? "target, as seen by camera" : "target centre", kGrey});
   legend.push_back(
-      {cameras_on_base ? "target, as seen by camera" : "target centre", {90, 90, 90}, Marker::kDisc});
-  legend.push_back({cameras_on_base ? "camera, arrow: view axis" : "camera at a pose, view axis",
-                    {90, 90, 90},
-                    Marker::kTriangle});
-  legend.push_back({"robot base, x and y axes", {30, 30, 30}, Marker::kSquare});
-  const int legend_w = Plot::LegendWidth(legend) + 24;
-  Plot plot(640 + legend_w, 640, std::string("Cell from above (base frame, z up)"), legend_w);
-  plot.SetX(lo.x(), hi.x(), "x_base (m)");
-  plot.SetY(lo.y(), hi.y(), "y_base (m)");
+      {cameras_on_base ? "camera, arrow: view axis" : "camera at a pose, view axis", kGrey,
+       Shape::kTriangle});
+  legend.push_back({"robot base, x and y axes", "#1e1e1e", Shape::kSquare});
+  const double legend_w = SvgPlot::LegendWidth(legend) + 24;
+  SvgPlot plot(640 + legend_w, 640, "Cell from above (base frame, z up)", legend_w);
+  plot.x = {lo.x(), hi.x(), "x_base (m)"};
+  plot.y = {lo.y(), hi.y(), "y_base (m)"};
   plot.EqualAspect();
-  plot.DrawFrame();
-
+  plot.Frame();
+  Svg& svg = plot.svg;
   // Sight lines, faint, so the eye sees which camera saw which target pose.
-  cv::Mat layer = plot.image().clone();
-  {
-    cv::Mat area = layer(plot.area());
-    for (const Sighting& s : sightings) {
-      cv::Point2d a = plot.Px(s.camera_at.x(), s.camera_at.y()),
-                  b = plot.Px(s.target_at.x(), s.target_at.y());
-      a -= cv::Point2d(plot.area().x, plot.area().y);
-      b -= cv::Point2d(plot.area().x, plot.area().y);
-      cv::line(area, Fixed(a), Fixed(b), CameraColor(s.camera), 1, cv::LINE_AA, kShift);
-    }
-  }
-  cv::addWeighted(plot.image(), 0.75, layer, 0.25, 0, plot.image());
-
+  for (const Sighting& s : sightings)
+    svg.Line({plot.At(s.camera_at.head<2>()), plot.At(s.target_at.head<2>())},
+             Hex(CameraColor(s.camera)), 1, {{"stroke-opacity", 0.25}});
   const double arrow = 0.12 * span;
-  // Robot base and its axes.
-  plot.Arrow({0, 0}, {arrow, 0}, {40, 40, 220}, 2, 8);
-  plot.Arrow({0, 0}, {0, arrow}, {40, 160, 40}, 2, 8);
-  plot.Point({0, 0}, Marker::kSquare, 14, {30, 30, 30});
-  plot.Label({0, 0}, "robot base", {30, 30, 30}, 10, 12, {0, 0}, 11);
+  svg.Arrow(plot.At(0, 0), plot.At(arrow, 0), "#dc2828", 2, 8);
+  svg.Arrow(plot.At(0, 0), plot.At(0, arrow), "#28a028", 2, 8);
+  svg.Mark(plot.At(0, 0), Shape::kSquare, 14, "#1e1e1e");
+  svg.Text(plot.At(0, 0) + Svg::P(10, 16), "robot base", 11, "#1e1e1e");
   if (!cameras_on_base) {
-    const Eigen::Vector3d t = result.T_target * target_centre;
-    plot.Point(t.head<2>(), Marker::kDiamond, 16, {30, 30, 30}, 2);
-    plot.Label(t.head<2>(), "target (fixed)", {30, 30, 30}, 12, -4, {0, 0.5}, 11);
+    const Svg::P t = plot.At((result.T_target * target_centre).head<2>());
+    svg.Mark(t, Shape::kDiamond, 16, "#1e1e1e", 2);
+    svg.Text(t + Svg::P(12, -4), "target (fixed)", 11, "#1e1e1e");
   }
   for (const Sighting& s : sightings)
-    plot.Point(s.target_at.head<2>(), Marker::kDisc, 5, CameraColor(s.camera));
+    svg.Mark(plot.At(s.target_at.head<2>()), Shape::kDisc, 5, Hex(CameraColor(s.camera)));
   for (size_t k = 0; k < model.cameras.size(); ++k) {
     const CameraModel& cam = model.cameras[k];
-    const cv::Scalar color = CameraColor(static_cast<int>(k));
+    const std::string colour = Hex(CameraColor(int(k)));
     if (!cam.result->calibrated) continue;
-    if (cameras_on_base) {
-      const Eigen::Isometry3d& T = cam.result->T_cam;
-      const Eigen::Vector3d at = T.translation(), dir = T.rotation().col(2);
-      // The optical axis seen from above: short when the camera looks down.
-      plot.Arrow(at.head<2>(), at.head<2>() + arrow * dir.head<2>(), color, 2, 9);
-      plot.Point(at.head<2>(), Marker::kTriangle, 15, color);
-      // Labels point inwards, so they stay inside the frame.
-      const bool right_half = at.x() > 0.5 * (lo.x() + hi.x());
-      plot.Label(at.head<2>(), cam.camera->name + " (z " + Format("%.2f", at.z()) + " m)", color,
-                 right_half ? -12 : 12, -12, {right_half ? 1.0 : 0.0, 0.5}, 11);
-    } else {
-      for (const Sighting& s : sightings) {
-        if (s.camera != static_cast<int>(k)) continue;
-        plot.Arrow(s.camera_at.head<2>(),
-                   s.camera_at.head<2>() + 0.5 * arrow * s.view_dir.head<2>(), color, 1, 6);
-        plot.Point(s.camera_at.head<2>(), Marker::kTriangle, 9, color);
-      }
+    if (!cameras_on_base) {
+      for (const Sighting& s : sightings)
+        if (s.camera == int(k)) {
+          const Eigen::Vector2d at = s.camera_at.head<2>();
+          svg.Arrow(plot.At(at), plot.At(at + 0.5 * arrow * s.view_dir.head<2>()), colour, 1, 6);
+          svg.Mark(plot.At(at), Shape::kTriangle, 9, colour);
+        }
+      continue;
     }
+    const Eigen::Vector3d at = cam.result->T_cam.translation(),
+                          dir = cam.result->T_cam.rotation().col(2);
+    // The optical axis seen from above: short when the camera looks down,
+    // so the label gives its angle to the horizontal too.
+    svg.Arrow(plot.At(at.head<2>()), plot.At(at.head<2>() + arrow * dir.head<2>()), colour, 2, 9);
+    svg.Mark(plot.At(at.head<2>()), Shape::kTriangle, 15, colour);
+    const double tilt_deg = std::asin(std::clamp(dir.z(), -1.0, 1.0)) * 180.0 / M_PI;
+    // Labels point inwards, so they stay inside the frame.
+    const bool right_half = at.x() > 0.5 * (lo.x() + hi.x());
+    svg.Text(plot.At(at.head<2>()) + Svg::P(right_half ? -12 : 12, -12),
+             cam.camera->name + " (z " + Num(at.z(), 2) + " m, looks " +
+                 Num(std::abs(tilt_deg), 0) + "° " + (tilt_deg <= 0 ? "down" : "up") + ")",
+             11, colour, right_half ? "end" : "start");
   }
-  plot.Legend(legend, Plot::Place::kMargin);
-  return plot.image();
+  plot.Legend(legend);
+  return plot.str();
 }
 
 }  // namespace
 
-PlotFiles WritePlots(const ReportModel& model, const std::string& dir) {
-  std::filesystem::create_directories(std::filesystem::path(dir) / "plots");
-  PlotFiles files;
-  for (size_t k = 0; k < model.cameras.size(); ++k) {
-    const CameraModel& cam = model.cameras[k];
-    files.histograms.push_back("plots/histogram_" + cam.folder + ".png");
-    WritePng(dir + "/" + files.histograms.back(), Histogram(model, cam));
-    files.image_plane.push_back("plots/image_plane_" + cam.folder + ".png");
-    WritePng(dir + "/" + files.image_plane.back(), ImagePlane(model, cam));
+Plots DrawPlots(const ReportModel& model) {
+  Plots plots;
+  for (const CameraModel& cam : model.cameras) {
+    plots.histograms.push_back(Histogram(model, cam));
+    plots.image_plane.push_back(ImagePlane(model, cam));
   }
-  files.view_rms = "plots/view_rms.png";
-  WritePng(dir + "/" + files.view_rms, ViewRms(model));
-  files.map = "plots/map.png";
-  WritePng(dir + "/" + files.map, Map(model));
-  return files;
+  plots.view_rms = ViewRms(model);
+  plots.map = Map(model);
+  return plots;
 }
 
 }  // namespace handeye::report

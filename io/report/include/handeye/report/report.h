@@ -1,17 +1,19 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
 /// @file
-/// The calibration report (SPEC §7 `handeye report`): per-view overlay PNGs,
-/// plots and a self-contained `index.html` that a person reads to accept or
-/// reject a calibration. Everything is drawn off-screen with OpenCV; the HTML
-/// needs no network and no JavaScript.
+/// The calibration report (SPEC §7 `handeye report`): per-view overlay PNGs
+/// and a self-contained `index.html` with the plots that a person reads to
+/// accept or reject a calibration. Everything is drawn off-screen: the
+/// overlays with OpenCV, the plots as inline SVG; the HTML needs no network
+/// and no JavaScript.
 ///
 /// Layout of the report folder:
-///  - `index.html`                         summary, warnings, plots, thumbnails
+///  - `index.html`                         summary, warnings, plots (inline SVG:
+///                                         residual histograms, image-plane
+///                                         residuals, per-view RMS, cell map),
+///                                         thumbnails
 ///  - `overlays/<camera>/<pose>.png`       one full-resolution overlay per view
 ///  - `thumbs/<camera>/<pose>.jpg`         the same, `thumbnail_width_px` wide
-///  - `plots/*.png`                        residual histograms, image-plane
-///                                         residuals, per-view RMS, cell map
 /// (camera names and pose ids are reduced to `[A-Za-z0-9._-]` in file names).
 
 #include <cstddef>
