@@ -20,9 +20,6 @@ namespace {
 using internal::Problem;
 using internal::View;
 
-/// At most this many expectation-maximisation steps for an estimated robot σ.
-constexpr int kRobotSigmaSteps = 4;
-
 // The estimate: each camera's T_cam_mount and the T_holder_target it uses.
 struct Estimate {
   std::vector<std::optional<Eigen::Isometry3d>> T_cam_mount;
@@ -217,19 +214,19 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     const double first_scale = std::max(
         1.0, 3.0 * internal::ResidualSigmaPx(problem, init.T_cam_mount,
                                              internal::TargetPoses(dataset.cameras.size(), init.T_holder_target)));
-    auto warm_start = [&](const internal::Refinement& r) {
-      for (size_t k = 0; k < r.T_cam_mount.size(); ++k)
-        if (r.T_cam_mount[k]) init.T_cam_mount[k] = r.T_cam_mount[k];
-      init.T_holder_target = r.T_holder_target[0];
-      if (!r.T_mount_holder.empty()) init.T_mount_holder = r.T_mount_holder;
-    };
     std::optional<internal::RobotPrior> robot;
     bool solved_once = false;
-    internal::Refinement refined = internal::RobustSolve(
+    const internal::Refinement refined = internal::RobustSolve(
         &problem, options, first_scale,
         [&](double scale) {
           CalibrationOptions round = options;
           round.cauchy_scale_px = scale;
+          auto warm_start = [&](const internal::Refinement& r) {
+            for (size_t k = 0; k < r.T_cam_mount.size(); ++k)
+              if (r.T_cam_mount[k]) init.T_cam_mount[k] = r.T_cam_mount[k];
+            init.T_holder_target = r.T_holder_target[0];
+            if (!r.T_mount_holder.empty()) init.T_mount_holder = r.T_mount_holder;
+          };
           // The robot's pose error: as given, or estimated from the last
           // solution (the first round solves with exact poses first).
           if (options.robot_sigma_mm > 0) {
@@ -258,27 +255,6 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
           return r;
         },
         &result.warnings);
-    // An estimated σ settles by expectation maximisation: the solve's
-    // corrections of the robot records say what the robot's error is (the
-    // rule that started it errs wide, by up to 3× on rendered cells). A step
-    // costs one solve; most settle within 5 % in two or three.
-    if (robot && options.robot_sigma_mm < 0) {
-      CalibrationOptions round = options;
-      round.cauchy_scale_px = refined.summary.cauchy_scale_px;
-      for (int step = 0; step < kRobotSigmaSteps; ++step) {
-        const internal::RobotPrior next = internal::UpdateRobotPrior(problem, refined, *robot);
-        const double change = std::max(std::abs(std::log(next.sigma_m / robot->sigma_m)),
-                                       std::abs(std::log(next.sigma_rad / robot->sigma_rad)));
-        robot = next;
-        const SolverSummary before = refined.summary;
-        refined = refine(round, robot);
-        warm_start(refined);
-        refined.summary.rounds = before.rounds + 1;
-        refined.summary.iterations += before.iterations;
-        refined.summary.seconds += before.seconds;
-        if (change < 0.05) break;
-      }
-    }
     robot_model = robot;
     if (robot) {
       result.solver.robot_sigma_mm = robot->sigma_m * 1000.0;

@@ -207,14 +207,6 @@ std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
                                              const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
                                              const TargetPoses& T_holder_target);
 
-/// One expectation-maximisation step for the robot's σ from a solve that
-/// modelled it (`solved.T_mount_holder`, under `prior`): per axis, the mean over the
-/// robot pose blocks of the squared correction of the record plus its
-/// posterior variance (the views' information about the flange, given the
-/// camera and target transforms, plus the prior's). The rule of EstimateRobotPrior starts the solve;
-/// this one settles σ where the poses' corrections say what the error is.
-RobotPrior UpdateRobotPrior(const Problem& problem, const Refinement& solved, const RobotPrior& prior);
-
 /// The paper's joint solve: shared T_holder_target, optional c_cross terms; with `robot`,
 /// every robot pose is a block of the solve too, under its prior.
 Refinement RefineJoint(const Problem& problem, const Initialisation& init,

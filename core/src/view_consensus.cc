@@ -274,19 +274,15 @@ std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
   const auto beyond_pnp = [](double seen_sigma, double pnp_variance) {
     return std::sqrt(std::max(0.0, seen_sigma * seen_sigma - pnp_variance));
   };
-  const double rotation_rad = beyond_pnp(Median(angle_rad) / 1.5382, Median(pnp_rotation_rad2));
-  const double across = beyond_pnp(Median(across_m) / 1.1774, Median(pnp_across_m2));
+  prior.sigma_rad = std::max(beyond_pnp(Median(angle_rad) / 1.5382, Median(pnp_rotation_rad2)), 1e-5 * kDeg);
   // With few views per camera, T_cam_mount absorbs the flange's displacements across
-  // the rays, which then look smaller than they are; at a few metres PnP's
-  // noise hides the flange's rotation. A robot's pose error comes from its
-  // joints, whose angle errors move the flange by about the rotation error
-  // times the reach: each σ at least what the other gives through the reach.
-  // This errs wide; UpdateRobotPrior settles both after the solve.
+  // the rays, which then look smaller than they are. A robot's pose error
+  // comes from its joints, whose angle errors move the flange by about the
+  // rotation error times the reach: the larger of the two.
   std::vector<double> reach_m;
   for (const RobotPose& pose : dataset.poses) reach_m.push_back(pose.T_base_ee.translation().norm());
-  const double reach = std::max(Median(reach_m), 0.1);
-  prior.sigma_rad = std::max({rotation_rad, across / reach, 1e-5 * kDeg});
-  prior.sigma_m = std::max({across, rotation_rad * reach, 1e-5});
+  prior.sigma_m =
+      std::max({beyond_pnp(Median(across_m) / 1.1774, Median(pnp_across_m2)), prior.sigma_rad * Median(reach_m), 1e-5});
   prior.pixel_sigma_px = pixel_sigma_px;
   return prior;
 }
