@@ -103,12 +103,15 @@ bool AsksForBase64(const std::string& text, int format) {
 
 // OpenCV 4.6's YAML parser loops for ever when, after its first collection,
 // the text goes on with a '-' that does not start "---": after a line
-// indented less than the first key (" s: 3\nabc-\nr") or after a "..."
-// document end ("a: 1\n...\n-x"); found by fuzz/run. An intrinsics file is
-// one collection, so text that goes on after it is refused before OpenCV
-// reads it: lines indented less than the first key, and content after "...".
-void RequireOneOpenCvYamlCollection(const std::string& text, const std::string& path) {
+// indented less than the first key (" s: 3\nabc-\nr"), after a "..."
+// document end ("a: 1\n...\n-x"), or after "---" lines that start more
+// streams (all found by fuzz/run). An intrinsics file is one mapping in one
+// document, so before OpenCV reads the text this requires: directives and at
+// most one "---" (alone on its line) before the first key, a first key that
+// starts a block mapping, no line indented less than it, and nothing after "...".
+void RequireOneOpenCvYamlMapping(const std::string& text, const std::string& path) {
   std::size_t root_indent = std::string::npos, line_number = 0, root_line = 0, end_line = 0;
+  bool document_start = false;
   for (std::size_t start = 0; start < text.size(); ++line_number) {
     std::size_t end = text.find('\n', start);
     if (end == std::string::npos) end = text.size();
@@ -117,18 +120,28 @@ void RequireOneOpenCvYamlCollection(const std::string& text, const std::string& 
     const std::size_t indent = line.find_first_not_of(' ');
     if (indent == std::string::npos || line[indent] == '#' || line[indent] == '\r') continue;  // blank, comment
     const std::string where = "line " + std::to_string(line_number + 1) + ": ";
+    auto refuse = [&](const std::string& why) { throw InputError(path, "", where + why); };
     if (end_line)
-      throw InputError(path, "", where + "more after the document end ('...') on line " + std::to_string(end_line) +
-                                     "; expected one document");
+      refuse("more after the document end ('...') on line " + std::to_string(end_line) + "; expected one document");
+    const bool marker = line.compare(indent, 3, "---") == 0;
     if (line.compare(indent, 3, "...") == 0) {
       end_line = line_number + 1;
+    } else if (root_indent == std::string::npos && line[indent] == '%') {
+      continue;  // a directive
+    } else if (marker && (root_indent != std::string::npos || document_start)) {
+      refuse("a second YAML document ('---'); expected one document");
+    } else if (marker) {
+      const std::size_t rest = line.find_first_not_of(" \r", indent + 3);
+      if (rest != std::string::npos && line[rest] != '#') refuse("expected '---' alone on its line");
+      document_start = true;
     } else if (root_indent == std::string::npos) {
-      if (line[indent] == '%' || line.compare(indent, 3, "---") == 0) continue;  // directives, document start
+      if (line[indent] == '-' || line[indent] == '[')
+        refuse("expected a mapping (camera_matrix: ...), got a sequence");
       root_indent = indent;
       root_line = line_number + 1;
     } else if (indent < root_indent) {
-      throw InputError(path, "", where + "indented less than the first key (line " + std::to_string(root_line) +
-                                     "); OpenCV's YAML parser reads one collection, indented alike");
+      refuse("indented less than the first key (line " + std::to_string(root_line) +
+             "); OpenCV's YAML parser reads one mapping, indented alike");
     }
   }
 }
@@ -154,7 +167,7 @@ FileIntrinsics ReadOpenCv(const std::string& path) {
   } else if (lead == '{') {
     format = cv::FileStorage::FORMAT_JSON;
   } else {
-    RequireOneOpenCvYamlCollection(text, path);
+    RequireOneOpenCvYamlMapping(text, path);
     if (text.compare(first == std::string::npos ? 0 : first, 5, "%YAML") != 0) text = "%YAML:1.0\n" + text;
   }
   if (AsksForBase64(text, format))

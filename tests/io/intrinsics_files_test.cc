@@ -226,13 +226,12 @@ TEST_CASE("OpenCV FileStorage: a matrix header that lies is refused before OpenC
                      "with rows x cols of them in data");
   }
   // Another one: a root that is not a mapping made OpenCV assert. The saved
-  // input has NUL bytes, now refused before OpenCV parses it; list.yml keeps
-  // the mapping check itself tested.
+  // input has NUL bytes, now refused before OpenCV parses it; a YAML list is
+  // refused before OpenCV reads it too.
   RequireFileError((std::filesystem::path(__FILE__).parent_path() / "fuzz_findings/opencv_root_not_a_map.yaml").string(),
                    IntrinsicsFileFormat::kOpenCv, "", "", "not a text file: a NUL byte at offset 8");
   test::WriteText(dir + "/list.yml", "%YAML:1.0\n- 1\n- 2\n");
-  RequireFileError(dir + "/list.yml", IntrinsicsFileFormat::kOpenCv, "", "",
-                   "expected an OpenCV FileStorage mapping");
+  RequireFileError(dir + "/list.yml", IntrinsicsFileFormat::kOpenCv, "", "", "expected a mapping");
   // OpenCV's YAML parser threw std::length_error on a key with no name: the
   // input fuzz/run saved, and the three lines that are enough.
   for (const char* name : {"intrinsics_opencv_length_error.yaml", "opencv_yaml_empty_key.yaml"}) {
@@ -274,11 +273,18 @@ TEST_CASE("OpenCV FileStorage: a matrix header that lies is refused before OpenC
   // there (a line indented less than the first key, content after "...").
   RequireFileError(finding_file("opencv_yaml_indent_loops.yaml"), IntrinsicsFileFormat::kOpenCv, "", "",
                    "line 4: indented less than the first key (line 2)");
+  RequireFileError(finding_file("opencv_yaml_streams_loop.yaml"), IntrinsicsFileFormat::kOpenCv, "", "",
+                   "line 2: expected '---' alone on its line");
   for (const auto& [text, expected] :
        {std::pair<std::string, std::string>{" s: 3\nabc-\nr", "line 2: indented less than the first key (line 1)"},
         {"%YAML:1.0\n---\n  a: 1\n  b: 2\n c-\n", "line 5: indented less than the first key (line 3)"},
         {"a: 1\n...\n-x\n", "line 3: more after the document end ('...') on line 2"},
-        {"- 1\n- 2\n...\n# c\n-\n", "line 5: more after the document end ('...') on line 3"}}) {
+        {"a: 1\n...\n# c\n-\n", "line 4: more after the document end ('...') on line 2"},
+        {"---\n---\na: 1\n", "line 2: a second YAML document ('---'); expected one document"},
+        {"a: 1\n---\n-\n", "line 2: a second YAML document ('---'); expected one document"},
+        {"----%-\na: 1\n", "line 1: expected '---' alone on its line"},
+        {"%YAML:1.0\n- 1\n- 2\n", "line 2: expected a mapping (camera_matrix: ...), got a sequence"},
+        {"[1]\n-x\n", "line 1: expected a mapping (camera_matrix: ...), got a sequence"}}) {
     INFO(text);
     test::WriteText(dir + "/loops.yml", text);
     RequireFileError(dir + "/loops.yml", IntrinsicsFileFormat::kOpenCv, "", "", expected);
