@@ -10,6 +10,7 @@
 
 #include "handeye/core/error.h"
 #include "handeye/io/dataset_json.h"
+#include "support/input_error.h"
 #include "support/test_support.h"
 
 namespace handeye::test {
@@ -62,18 +63,9 @@ inline std::string WriteJson(const std::string& path, const json& j) {
 // Loads `j` from a file and requires an InputError at `json_path` whose
 // message says `expected`; the message must start with "<file>: at <path>: ".
 inline void RequireLoadError(const json& j, const std::string& json_path, const std::string& expected,
-                      const LoadOptions& options = {}) {
+                             const LoadOptions& options = {}) {
   const std::string file = WriteJson(TempDir("dataset_bad") + "/data.json", j);
-  try {
-    LoadDataset(file, options);
-  } catch (const InputError& e) {
-    CHECK(e.file() == file);
-    CHECK(e.json_path() == json_path);
-    CHECK_THAT(e.what(), Contains(file + ": at " + json_path + ": "));
-    CHECK_THAT(e.what(), Contains(expected));
-    return;
-  }
-  FAIL("LoadDataset accepted the file; expected an error at " + json_path + ": " + expected);
+  RequireInputErrorAt(file, json_path, expected, [&] { LoadDataset(file, options); });
 }
 
 }  // namespace handeye::test

@@ -9,6 +9,7 @@
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
 #include "handeye/io/dataset_json.h"
+#include "support/input_error.h"
 #include "support/test_support.h"
 
 namespace handeye {
@@ -155,16 +156,7 @@ json ValidTruthJson() {
 void RequireTruthError(const json& j, const std::string& json_path, const std::string& expected) {
   const std::string file = test::TempDir("truth_bad") + "/gt.json";
   test::WriteText(file, j.dump(2));
-  try {
-    LoadGroundTruth(file);
-  } catch (const InputError& e) {
-    CHECK(e.file() == file);
-    CHECK(e.json_path() == json_path);
-    CHECK_THAT(e.what(), Contains(file + ": at " + json_path + ": "));
-    CHECK_THAT(e.what(), Contains(expected));
-    return;
-  }
-  FAIL("LoadGroundTruth accepted the file; expected an error at " + json_path);
+  test::RequireInputErrorAt(file, json_path, expected, [&] { LoadGroundTruth(file); });
 }
 
 TEST_CASE("Ground truth: bad input is named precisely", "[io][truth][bad]") {
