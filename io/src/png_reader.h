@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
-// PNG input through libspng: every PNG form (1 to 16 bits, grey, colour,
-// palette, alpha, interlaced) without going through OpenCV, whose libpng
+// PNG input through libspng, the common files inflated by libdeflate (see
+// png_reader.cc): every PNG form (1 to 16 bits, grey, colour, palette,
+// alpha, interlaced) without going through OpenCV, whose libpng
 // prints its own "libpng error: ..." on stderr for a damaged file, and with
 // the image size checked from the header before any pixel memory is
 // allocated. Internal to the io library.
