@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
+#include <map>
 #include <initializer_list>
 #include <optional>
 #include <utility>
@@ -84,16 +86,24 @@ bool IsXJunction(const SaddlePoint& s, double min_ratio) {
   return smaller >= min_ratio * larger;
 }
 
+/// The saddle points that are X-junctions (IsXJunction).
+std::vector<SaddlePoint> XJunctions(const std::vector<SaddlePoint>& saddles, const GridPatchOptions& options) {
+  std::vector<SaddlePoint> junctions;
+  for (const SaddlePoint& s : saddles)
+    if (IsXJunction(s, options.min_eigen_ratio)) junctions.push_back(s);
+  return junctions;
+}
+
+/// Side of PointIndex's cells (px).
+constexpr int kCellPx = 8;
+
 }  // namespace
 
 std::vector<GridPatch> FindGridPatches(const std::vector<SaddlePoint>& all_saddles,
                                        const GridPatchOptions& options, std::size_t max_patches) {
   std::vector<GridPatch> patches;
-  std::vector<SaddlePoint> saddles;
-  for (const SaddlePoint& s : all_saddles)
-    if (IsXJunction(s, options.min_eigen_ratio)) saddles.push_back(s);
+  const std::vector<SaddlePoint> saddles = XJunctions(all_saddles, options);
   if (saddles.size() < 6 || max_patches == 0) return patches;
-  constexpr int kCellPx = 8;
   const PointIndex index(saddles, kCellPx);
   const double min_step2 = options.min_step_px * options.min_step_px;
 
@@ -172,6 +182,86 @@ std::vector<GridPatch> FindGridPatches(const std::vector<SaddlePoint>& all_saddl
   for (int i = 0; i < static_cast<int>(saddles.size()) && patches.size() < max_patches; ++i)
     if (auto patch = patch_at(i)) patches.push_back(std::move(*patch));
   return patches;
+}
+
+std::vector<Lattice> GrowLattices(const std::vector<SaddlePoint>& all_saddles, const std::vector<GridPatch>& patches,
+                                  const GridPatchOptions& options, std::size_t max_points) {
+  std::vector<Lattice> lattices;
+  const std::vector<SaddlePoint> saddles = XJunctions(all_saddles, options);
+  if (saddles.empty()) return lattices;
+  const PointIndex index(saddles, kCellPx);
+  // The lattice (its number) each saddle point was last made part of; -1
+  // for none. A patch whose centre is part of a lattice grown before grows
+  // no other.
+  std::vector<int> owner(saddles.size(), -1);
+  auto index_of = [&](const cv::Point& pixel) {
+    int found = -1;
+    index.ForEachWithin(cv::Point2d(pixel.x, pixel.y), 0.5, [&](int j, double) { found = j; });
+    return found;
+  };
+  using Node = std::pair<int, int>;  // (a, b): along the patch's first direction, its second
+  int number = 0;
+  for (const GridPatch& patch : patches) {
+    const int patch_rows = static_cast<int>(patch.corners.size()) / 3;
+    if (patch_rows < 2) continue;
+    const int centre = index_of(patch.corners[patch_rows == 3 ? 4 : 1]);
+    if (centre < 0 || owner[centre] >= 0) continue;
+    ++number;
+    std::map<Node, int> at;
+    for (int k = 0; k < static_cast<int>(patch.corners.size()); ++k) {
+      const int j = index_of(patch.corners[k]);
+      if (j < 0 || owner[j] == number) break;
+      at[{k % 3, k / 3}] = j;
+      owner[j] = number;
+    }
+    if (at.size() != patch.corners.size()) continue;
+    // Grown breadth first: the next corner along a grid line is where the
+    // last step predicts it, within the patches' tolerance, and of the
+    // opposite Hessian sign (the squares' colours swap).
+    std::deque<Node> open(at.size());
+    std::transform(at.begin(), at.end(), open.begin(), [](const auto& entry) { return entry.first; });
+    bool too_large = false;
+    while (!open.empty() && !too_large) {
+      const auto [a, b] = open.front();
+      open.pop_front();
+      for (const auto& [da, db] : {Node{1, 0}, Node{-1, 0}, Node{0, 1}, Node{0, -1}}) {
+        if (at.count({a + da, b + db})) continue;
+        const auto behind = at.find({a - da, b - db});
+        if (behind == at.end()) continue;
+        const SaddlePoint& p = saddles[at.at({a, b})];
+        const cv::Point2d step = At(p) - At(saddles[behind->second]);
+        const double radius = options.tolerance * cv::norm(step) + options.slack_px;
+        int best = -1;
+        double best_d2 = radius * radius;
+        index.ForEachWithin(At(p) + step, radius, [&](int j, double d2) {
+          if (d2 <= best_d2 && owner[j] != number && -HessianCosine(p, saddles[j]) >= options.min_cosine) best = j, best_d2 = d2;
+        });
+        if (best < 0) continue;
+        at[{a + da, b + db}] = best;
+        owner[best] = number;
+        open.emplace_back(a + da, b + db);
+        if (at.size() > max_points) too_large = true;
+      }
+    }
+    if (too_large) continue;
+    int a0 = 0, a1 = 0, b0 = 0, b1 = 0;
+    for (const auto& [node, j] : at) {
+      a0 = std::min(a0, node.first), a1 = std::max(a1, node.first);
+      b0 = std::min(b0, node.second), b1 = std::max(b1, node.second);
+    }
+    Lattice lattice;
+    lattice.cols = a1 - a0 + 1;
+    lattice.rows = b1 - b0 + 1;
+    lattice.points.resize(static_cast<std::size_t>(lattice.cols) * lattice.rows);
+    lattice.found.resize(lattice.points.size(), 0);
+    for (const auto& [node, j] : at) {
+      const std::size_t k = static_cast<std::size_t>(node.second - b0) * lattice.cols + (node.first - a0);
+      lattice.points[k] = saddles[j].pixel;
+      lattice.found[k] = 1;
+    }
+    lattices.push_back(std::move(lattice));
+  }
+  return lattices;
 }
 
 bool HasGridPatch(const std::vector<SaddlePoint>& saddles, const GridPatchOptions& options) {

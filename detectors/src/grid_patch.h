@@ -70,6 +70,30 @@ std::vector<GridPatch> FindGridPatches(const std::vector<SaddlePoint>& saddles,
                                        const GridPatchOptions& options,
                                        std::size_t max_patches = SIZE_MAX);
 
+/// Corner grid grown among saddle points from a patch: a rectangle of grid
+/// nodes, not all of them found.
+struct Lattice {
+  /// Nodes along the first direction of the patch it grew from, and along
+  /// the second.
+  int cols = 0, rows = 0;
+  /// Row by row: node (a, b) at b * cols + a (pixels of the image searched),
+  /// where found[b * cols + a] is set.
+  std::vector<cv::Point> points;
+  std::vector<char> found;
+};
+
+/// The lattices that `patches` grow into over `saddles`: from each corner,
+/// the next one along a grid line is the X-junction nearest to where the
+/// last step predicts it (within the patches' tolerance, FindGridPatches)
+/// whose Hessian has the opposite sign, until no corner can grow. Lattices
+/// of more than `max_points` corners are left out; each is grown once (a
+/// patch whose centre is in a lattice grown before grows none). On a
+/// checkerboard seen whole a lattice holds its inner corners, often with a
+/// ring of the board's outer corners or of clutter around them; the caller
+/// picks the board's rectangle and verifies it on the image.
+std::vector<Lattice> GrowLattices(const std::vector<SaddlePoint>& saddles, const std::vector<GridPatch>& patches,
+                                  const GridPatchOptions& options, std::size_t max_points);
+
 /// True when `saddles` hold a 3 x `options.rows` patch (FindGridPatches).
 bool HasGridPatch(const std::vector<SaddlePoint>& saddles, const GridPatchOptions& options);
 
