@@ -34,6 +34,9 @@ struct View {
   /// Excluded for disagreeing with the other views (robot motion vote or
   /// residuals after a solve), as opposed to failing on its own (PnP).
   bool inconsistent = false;
+  /// Excluded for being seen too obliquely (SolvePnp): the angle from
+  /// face-on, deg; 0 otherwise.
+  double oblique_deg = 0;
 };
 
 /// The dataset in the solver's terms: T_mount_holder per pose and the views.
@@ -47,6 +50,20 @@ struct Problem {
 /// Builds views, runs PnP per view and drops views whose points fit no plane pose.
 Problem BuildProblem(const Dataset& dataset, const CalibrationOptions& options);
 
+/// Views seen more obliquely than this are not used. Their corners are
+/// squeezed to a quarter and less across the tilt, so their poses are poor
+/// (on a rendered METRIC-like cell the views of 75-80 degrees fitted the
+/// robot's motions so badly that the consensus called their robot records
+/// wrong, and took a good view with them); OpenCV's sector detector found none
+/// beyond 74.4 degrees on METRIC or the rendered cells, the lattice of the
+/// checkerboard detector finds them up to 80.
+constexpr double kMaxViewAngleDeg = 75.0;
+
+/// Angle (rad) between the target's normal and the ray to the middle of the
+/// points `p_target`, with the target at `T_cam_target`: 0 seen face-on, π/2
+/// edge-on.
+double ViewAngle(const Eigen::Isometry3d& T_cam_target, const std::vector<Eigen::Vector3d>& p_target);
+
 /// Rebuilds problem->camera_views from the views' `used` flags.
 void IndexUsedViews(Problem* problem);
 
@@ -54,9 +71,11 @@ void IndexUsedViews(Problem* problem);
 /// camera, the target's motion seen by the camera (T_cam_target[a] ·
 /// T_cam_target[b]⁻¹) and the robot's motion (M_a · M_b⁻¹) are conjugate
 /// (T_cam_mount between them), so their rotation angles and screw pitches agree
-/// whatever T_cam_mount and T_holder_target are. A view that agrees with fewer than half of the
+/// whatever T_cam_mount and T_holder_target are, within what PnP's noise
+/// allows each pair. A view that agrees with fewer than half of the
 /// camera's other views, where most views agree with most, is excluded: its
-/// robot record belongs to another pose, or its image to another time.
+/// robot record belongs to another pose, or its image to another time (or,
+/// seen very obliquely, its pose is worse than its corners' noise says).
 /// Returns the number of views excluded.
 int RejectInconsistentMotions(Problem* problem);
 

@@ -106,6 +106,8 @@ bool SeenFromBehind(const Eigen::Isometry3d& T_cam_target) {
   return T_cam_target.inverse().translation().z() > 0;
 }
 
+constexpr double kMaxViewAngle = kMaxViewAngleDeg * kDeg;
+
 void SolvePnp(const Camera& camera, double max_rms_px, View* view) {
   SolvePnpAnySide(camera, max_rms_px, view);
   if (view->T_cam_target && SeenFromBehind(*view->T_cam_target)) {
@@ -115,6 +117,19 @@ void SolvePnp(const Camera& camera, double max_rms_px, View* view) {
     view->rejected_because =
         "the target is seen from behind: its points are mirrored (a see-through target seen "
         "from its back?)";
+  }
+  if (view->T_cam_target) {
+    const double angle = ViewAngle(*view->T_cam_target, view->p_target);
+    if (angle > kMaxViewAngle) {
+      view->T_cam_target.reset();
+      view->used = false;
+      view->oblique_deg = angle / kDeg;
+      std::ostringstream why;
+      why.precision(0);
+      why << std::fixed << "the target is seen " << angle / kDeg << " deg from face-on (more than "
+          << kMaxViewAngle / kDeg << "): its corners are too squeezed to give a good pose";
+      view->rejected_because = why.str();
+    }
   }
 }
 
@@ -130,6 +145,13 @@ RobotMotions CollectMotions(const Problem& problem, const std::vector<int>& came
 }
 
 }  // namespace
+
+double ViewAngle(const Eigen::Isometry3d& T_cam_target, const std::vector<Eigen::Vector3d>& p_target) {
+  Eigen::Vector3d middle = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : p_target) middle += p;
+  const Eigen::Vector3d ray = (T_cam_target * (middle / static_cast<double>(p_target.size()))).normalized();
+  return std::acos(std::min(1.0, std::abs(ray.dot(T_cam_target.linear().col(2)))));
+}
 
 Problem BuildProblem(const Dataset& dataset, const CalibrationOptions& options) {
   if (!dataset.target) throw InputError("", "/target", "a target");

@@ -29,6 +29,7 @@ double Median(std::vector<double> values) {
 struct PnpNoise {
   double rotation_rad2 = 0;
   double across_m2 = 0;
+  double position_m2 = 0;  ///< the centre's, all three axes together (along the ray the most)
 };
 
 PnpNoise PnpNoiseOf(const View& view, const Camera& camera, const Eigen::Vector3d& centre, double sigma_px) {
@@ -56,6 +57,7 @@ PnpNoise PnpNoiseOf(const View& view, const Camera& camera, const Eigen::Vector3
   const Eigen::Vector3d ray = c.normalized();
   const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - ray * ray.transpose();
   out.across_m2 = (across * dc * C * dc.transpose() * across).trace() / 2.0;
+  out.position_m2 = (dc * C * dc.transpose()).trace();
   return out;
 }
 
@@ -126,30 +128,53 @@ void IndexUsedViews(Problem* problem) {
 
 int RejectInconsistentMotions(Problem* problem) {
   int rejected = 0;
+  const Eigen::Vector3d centre = TargetCentre(*problem->dataset->target);
+  const double pixel_sigma_px = DetectionSigmaPx(*problem);
   for (const std::vector<int>& ids : problem->camera_views) {
     const size_t n = ids.size();
     if (n < 4) continue;  // three views: one pair against each; no majority to speak of
+    // What each view's rotation from PnP may be off by its own corners' noise
+    // alone (σ per axis, rad): much more for a board seen obliquely or small.
+    std::vector<double> pnp_rotation_rad(n), pnp_position_m(n);
+    for (size_t a = 0; a < n; ++a) {
+      const View& view = problem->views[ids[a]];
+      const PnpNoise noise = PnpNoiseOf(view, problem->dataset->cameras[view.camera], centre, pixel_sigma_px);
+      pnp_rotation_rad[a] = std::sqrt(noise.rotation_rad2);
+      pnp_position_m[a] = std::sqrt(noise.position_m2);
+    }
     // Each view against up to kMaxPartners others, spread over the camera's views.
     const size_t partners = std::min(n - 1, kMaxPartners);
     std::vector<std::vector<MotionMismatch>> mismatch(n);
+    // PnP's σ of each pair's angle and pitch differences.
+    std::vector<std::vector<double>> pair_rotation_rad(n), pair_position_m(n);
     std::vector<double> angles, pitches;
     for (size_t a = 0; a < n; ++a)
       for (size_t i = 1; i <= partners; ++i) {
         const size_t b = (a + i * (n - 1) / partners) % n;
         const MotionMismatch m = Compare(*problem, problem->views[ids[a]], problem->views[ids[b]]);
         mismatch[a].push_back(m);
+        pair_rotation_rad[a].push_back(std::hypot(pnp_rotation_rad[a], pnp_rotation_rad[b]));
+        pair_position_m[a].push_back(std::hypot(pnp_position_m[a], pnp_position_m[b]));
         angles.push_back(m.angle_rad);
         if (m.pitch_m >= 0) pitches.push_back(m.pitch_m);
       }
     // Tolerances from the camera's own pairs (≈ 4σ of the typical mismatch,
-    // which PnP and the robot's own errors set), with floors for noise-free data.
+    // which PnP and the robot's own errors set), with floors for noise-free
+    // data; for the angle at least 4σ of what PnP's noise gives the pair (a
+    // board seen at 70° from face-on is turned by 0.1-0.2° by its corners'
+    // noise alone, and failed the typical pairs' tolerance against most of
+    // the views on a rendered cell).
     const double angle_tolerance = std::max(0.1 * kDeg, 6.0 * Median(angles));
     const double pitch_tolerance = std::max(1e-3, 6.0 * Median(pitches));
     std::vector<double> support(n);
     for (size_t a = 0; a < n; ++a) {
       int agree = 0;
-      for (const MotionMismatch& m : mismatch[a])
-        agree += m.angle_rad <= angle_tolerance && m.pitch_m <= pitch_tolerance ? 1 : 0;
+      for (size_t i = 0; i < mismatch[a].size(); ++i) {
+        const MotionMismatch& m = mismatch[a][i];
+        const double angle_limit = std::max(angle_tolerance, 4.0 * pair_rotation_rad[a][i]);
+        const double pitch_limit = std::max(pitch_tolerance, 4.0 * pair_position_m[a][i]);
+        agree += m.angle_rad <= angle_limit && m.pitch_m <= pitch_limit ? 1 : 0;
+      }
       support[a] = static_cast<double>(agree) / mismatch[a].size();
     }
     // Only a clear majority votes a view out.
@@ -164,6 +189,10 @@ int RejectInconsistentMotions(Problem* problem) {
           << " % of the camera's other views (most agree with "
           << std::lround(100.0 * Median(support))
           << " %): the robot record likely belongs to another pose or time";
+      // Beyond 60° the corners are squeezed to half and less across the tilt.
+      const double angle_deg = ViewAngle(*view.T_cam_target, view.p_target) / kDeg;
+      if (angle_deg > 60.0)
+        why << ", or the target, seen " << std::lround(angle_deg) << " deg from face-on, gave a poor pose";
       view.rejected_because = why.str();
       ++rejected;
     }

@@ -3,6 +3,7 @@
 // records that belong to other poses, a see-through target read from behind,
 // the robot's own pose error, a solve that runs out of iterations.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <random>
 #include <set>
 
@@ -120,6 +121,69 @@ TEST_CASE("A see-through target read from behind: mirrored views are left out", 
     INFO(camera.name << ": " << error_mm << " mm");
     CHECK(error_mm < 0.5);
   }
+}
+
+TEST_CASE("Views seen beyond 75 degrees from face-on are left out, named in one warning",
+          "[calibration][robust]") {
+  // What the checkerboard detector's lattice now finds: boards turned almost
+  // edge-on to a camera. Their poses are poor; the views of up to 70 degrees
+  // that the projection keeps must all still count.
+  SyntheticScene scene = Scene(Setup::kEyeToHand, 24, 4, 0.0, 0.0);
+  const Dataset& dataset = scene.dataset;
+  std::set<std::pair<std::string, int>> seen;
+  for (const Observation& obs : dataset.observations)
+    for (int k = 0; k < static_cast<int>(dataset.cameras.size()); ++k)
+      if (dataset.cameras[k].name == obs.camera) seen.insert({obs.pose_id, k});
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.1);
+  std::set<std::pair<std::string, std::string>> oblique;
+  for (int j = 0; j < static_cast<int>(dataset.poses.size()) && oblique.size() < 3; ++j) {
+    for (int k = 0; k < static_cast<int>(dataset.cameras.size()) && oblique.size() < 3; ++k) {
+      if (seen.count({dataset.poses[j].id, k})) continue;
+      const Eigen::Isometry3d T = TrueCameraFromTarget(scene, k, j);
+      // The printed face towards the camera, seen 76-84 degrees from face-on.
+      if (T.inverse().translation().z() > 0) continue;
+      Eigen::Vector3d middle = Eigen::Vector3d::Zero();
+      for (const TargetPoint& p : dataset.target->Points()) middle += p.p_target;
+      const Eigen::Vector3d ray = (T * (middle / dataset.target->Points().size())).normalized();
+      const double angle_deg = std::acos(std::abs(ray.dot(T.linear().col(2)))) * 180.0 / M_PI;
+      if (angle_deg < 76.0 || angle_deg > 84.0) continue;
+      Observation obs;
+      obs.pose_id = dataset.poses[j].id;
+      obs.camera = dataset.cameras[k].name;
+      bool inside = true;
+      for (const TargetPoint& p : dataset.target->Points()) {
+        const auto uv = dataset.cameras[k].Project(T * p.p_target);
+        inside = inside && uv && dataset.cameras[k].InImage(*uv, 5.0);
+        if (!inside) break;
+        obs.ids.push_back(p.id);
+        obs.points_px.push_back(*uv + Eigen::Vector2d(noise(rng), noise(rng)));
+      }
+      if (!inside) continue;
+      scene.dataset.observations.push_back(obs);
+      oblique.insert({obs.pose_id, obs.camera});
+    }
+  }
+  REQUIRE(oblique.size() == 3);
+
+  const CalibrationResult result = Calibrate(scene.dataset, CalibrationOptions());
+  for (const ViewResult& view : result.views) {
+    INFO("view " << view.pose_id << "/" << view.camera << ": " << view.rejected_because);
+    if (oblique.count({view.pose_id, view.camera})) {
+      CHECK_FALSE(view.used);
+      CHECK_THAT(view.rejected_because, Contains("deg from face-on"));
+    } else {
+      CHECK(view.used);
+    }
+  }
+  int oblique_warnings = 0;
+  for (const std::string& warning : result.warnings) {
+    if (warning.find("more than 75 deg from face-on") == std::string::npos) continue;
+    ++oblique_warnings;
+    CHECK_THAT(warning, Contains("3 views left out"));
+    for (const auto& [pose, camera] : oblique) CHECK_THAT(warning, Contains(pose + "/" + camera));
+  }
+  CHECK(oblique_warnings == 1);
 }
 
 TEST_CASE("A solve that reaches the iteration limit is returned with a warning", "[calibration][robust]") {
