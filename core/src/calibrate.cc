@@ -383,18 +383,19 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   for (const View& view : problem.views) {
     if (view.used) continue;
     if (view.oblique_deg > 0) {
-      oblique << (num_oblique++ ? ", " : "") << view.observation->pose_id << "/" << view.observation->camera << " ("
-              << std::lround(view.oblique_deg) << ")";
+      oblique << (num_oblique++ ? ", " : "") << view.observation->pose_id << "/"
+              << view.observation->camera << " (" << std::lround(view.oblique_deg) << ")";
       continue;
     }
     result.warnings.push_back("view of pose '" + view.observation->pose_id + "' by camera '" +
                               view.observation->camera + "' left out: " + view.rejected_because);
   }
   if (num_oblique)
-    result.warnings.push_back(std::to_string(num_oblique) + " view" + (num_oblique > 1 ? "s" : "") +
-                              " left out, the target seen more than " +
-                              std::to_string(std::lround(internal::kMaxViewAngleDeg)) +
-                              " deg from face-on (too squeezed for a good pose); pose/camera (deg): " + oblique.str());
+    result.warnings.push_back(
+        std::to_string(num_oblique) + " view" + (num_oblique > 1 ? "s" : "") +
+        " left out, the target seen more than " +
+        std::to_string(std::lround(internal::kMaxViewAngleDeg)) +
+        " deg from face-on (too squeezed for a good pose); pose/camera (deg): " + oblique.str());
   const auto pose_warnings = internal::PoseRecordWarnings(problem, est.T_cam_mount, T_holder_target);
   result.warnings.insert(result.warnings.end(), pose_warnings.begin(), pose_warnings.end());
   // Pairs for the methods without pair parameters: chained through the base.

@@ -62,7 +62,8 @@ constexpr double kMaxViewAngleDeg = 75.0;
 /// Angle (rad) between the target's normal and the ray to the middle of the
 /// points `p_target`, with the target at `T_cam_target`: 0 seen face-on, π/2
 /// edge-on.
-double ViewAngle(const Eigen::Isometry3d& T_cam_target, const std::vector<Eigen::Vector3d>& p_target);
+double ViewAngle(const Eigen::Isometry3d& T_cam_target,
+                 const std::vector<Eigen::Vector3d>& p_target);
 
 /// Rebuilds problem->camera_views from the views' `used` flags.
 void IndexUsedViews(Problem* problem);

@@ -146,10 +146,12 @@ RobotMotions CollectMotions(const Problem& problem, const std::vector<int>& came
 
 }  // namespace
 
-double ViewAngle(const Eigen::Isometry3d& T_cam_target, const std::vector<Eigen::Vector3d>& p_target) {
+double ViewAngle(const Eigen::Isometry3d& T_cam_target,
+                 const std::vector<Eigen::Vector3d>& p_target) {
   Eigen::Vector3d middle = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& p : p_target) middle += p;
-  const Eigen::Vector3d ray = (T_cam_target * (middle / static_cast<double>(p_target.size()))).normalized();
+  const Eigen::Vector3d ray =
+      (T_cam_target * (middle / static_cast<double>(p_target.size()))).normalized();
   return std::acos(std::min(1.0, std::abs(ray.dot(T_cam_target.linear().col(2)))));
 }
 

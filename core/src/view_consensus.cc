@@ -138,7 +138,8 @@ int RejectInconsistentMotions(Problem* problem) {
     std::vector<double> pnp_rotation_rad(n), pnp_position_m(n);
     for (size_t a = 0; a < n; ++a) {
       const View& view = problem->views[ids[a]];
-      const PnpNoise noise = PnpNoiseOf(view, problem->dataset->cameras[view.camera], centre, pixel_sigma_px);
+      const PnpNoise noise =
+          PnpNoiseOf(view, problem->dataset->cameras[view.camera], centre, pixel_sigma_px);
       pnp_rotation_rad[a] = std::sqrt(noise.rotation_rad2);
       pnp_position_m[a] = std::sqrt(noise.position_m2);
     }
@@ -192,7 +193,8 @@ int RejectInconsistentMotions(Problem* problem) {
       // Beyond 60° the corners are squeezed to half and less across the tilt.
       const double angle_deg = ViewAngle(*view.T_cam_target, view.p_target) / kDeg;
       if (angle_deg > 60.0)
-        why << ", or the target, seen " << std::lround(angle_deg) << " deg from face-on, gave a poor pose";
+        why << ", or the target, seen " << std::lround(angle_deg)
+            << " deg from face-on, gave a poor pose";
       view.rejected_because = why.str();
       ++rejected;
     }

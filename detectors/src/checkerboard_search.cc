@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <map>
 #include <numeric>
-#include <optional>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -176,7 +176,8 @@ std::vector<Region> PatchRegions(const std::vector<GridPatch>& patches, int long
 /// full image (RefineGrid); nullopt when there is none, or more than one
 /// (a larger pattern than the target's). `*window` is set when the lattice
 /// holds all the corners of such a grid but at most one, verified or not.
-std::optional<Grid> GridInLattice(const cv::Mat& gray, const Lattice& lattice, int cols, int rows, bool* window) {
+std::optional<Grid> GridInLattice(const cv::Mat& gray, const Lattice& lattice, int cols, int rows,
+                                  bool* window) {
   std::optional<Grid> only;
   for (const bool across : {false, true}) {
     if (across && cols == rows) break;
@@ -195,7 +196,8 @@ std::optional<Grid> GridInLattice(const cv::Mat& gray, const Lattice& lattice, i
             missing += lattice.found[node] == 0;
             // Half pixel k has its centre at 2k + 0.5 in the full image.
             const cv::Point& p = lattice.points[node];
-            const std::size_t k = across ? static_cast<std::size_t>(a) * cols + b : static_cast<std::size_t>(b) * cols + a;
+            const std::size_t k = across ? static_cast<std::size_t>(a) * cols + b
+                                         : static_cast<std::size_t>(b) * cols + a;
             grid.px[k] = cv::Point2f(2.0f * p.x + 0.5f, 2.0f * p.y + 0.5f);
           }
         }
@@ -334,8 +336,10 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
       // Most boards seen whole are the lattice the patches grow into: refined
       // and verified, they are found without any of OpenCV's searches (the
       // crops and levels below are for the rest).
-      for (const Lattice& lattice : GrowLattices(*saddles, patches, patch, 4 * static_cast<std::size_t>(cols) * rows))
-        if (std::optional<Grid> found = GridInLattice(gray, lattice, cols, rows, &lattice_window)) return found;
+      for (const Lattice& lattice :
+           GrowLattices(*saddles, patches, patch, 4 * static_cast<std::size_t>(cols) * rows))
+        if (std::optional<Grid> found = GridInLattice(gray, lattice, cols, rows, &lattice_window))
+          return found;
       patch_regions = PatchRegions(patches, std::max(cols, rows));
     }
   }

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
-#include <map>
 #include <initializer_list>
+#include <map>
 #include <optional>
 #include <utility>
 
@@ -87,7 +87,8 @@ bool IsXJunction(const SaddlePoint& s, double min_ratio) {
 }
 
 /// The saddle points that are X-junctions (IsXJunction).
-std::vector<SaddlePoint> XJunctions(const std::vector<SaddlePoint>& saddles, const GridPatchOptions& options) {
+std::vector<SaddlePoint> XJunctions(const std::vector<SaddlePoint>& saddles,
+                                    const GridPatchOptions& options) {
   std::vector<SaddlePoint> junctions;
   for (const SaddlePoint& s : saddles)
     if (IsXJunction(s, options.min_eigen_ratio)) junctions.push_back(s);
@@ -184,7 +185,8 @@ std::vector<GridPatch> FindGridPatches(const std::vector<SaddlePoint>& all_saddl
   return patches;
 }
 
-std::vector<Lattice> GrowLattices(const std::vector<SaddlePoint>& all_saddles, const std::vector<GridPatch>& patches,
+std::vector<Lattice> GrowLattices(const std::vector<SaddlePoint>& all_saddles,
+                                  const std::vector<GridPatch>& patches,
                                   const GridPatchOptions& options, std::size_t max_points) {
   std::vector<Lattice> lattices;
   const std::vector<SaddlePoint> saddles = XJunctions(all_saddles, options);
@@ -219,7 +221,8 @@ std::vector<Lattice> GrowLattices(const std::vector<SaddlePoint>& all_saddles, c
     // last step predicts it, within the patches' tolerance, and of the
     // opposite Hessian sign (the squares' colours swap).
     std::deque<Node> open(at.size());
-    std::transform(at.begin(), at.end(), open.begin(), [](const auto& entry) { return entry.first; });
+    std::transform(at.begin(), at.end(), open.begin(),
+                   [](const auto& entry) { return entry.first; });
     bool too_large = false;
     while (!open.empty() && !too_large) {
       const auto [a, b] = open.front();
@@ -234,7 +237,9 @@ std::vector<Lattice> GrowLattices(const std::vector<SaddlePoint>& all_saddles, c
         int best = -1;
         double best_d2 = radius * radius;
         index.ForEachWithin(At(p) + step, radius, [&](int j, double d2) {
-          if (d2 <= best_d2 && owner[j] != number && -HessianCosine(p, saddles[j]) >= options.min_cosine) best = j, best_d2 = d2;
+          if (d2 <= best_d2 && owner[j] != number &&
+              -HessianCosine(p, saddles[j]) >= options.min_cosine)
+            best = j, best_d2 = d2;
         });
         if (best < 0) continue;
         at[{a + da, b + db}] = best;
@@ -252,10 +257,13 @@ std::vector<Lattice> GrowLattices(const std::vector<SaddlePoint>& all_saddles, c
     Lattice lattice;
     lattice.cols = a1 - a0 + 1;
     lattice.rows = b1 - b0 + 1;
+    // A lattice grown along a few long lines would span a large, empty box.
+    if (static_cast<std::size_t>(lattice.cols) * lattice.rows > 4 * max_points) continue;
     lattice.points.resize(static_cast<std::size_t>(lattice.cols) * lattice.rows);
     lattice.found.resize(lattice.points.size(), 0);
     for (const auto& [node, j] : at) {
-      const std::size_t k = static_cast<std::size_t>(node.second - b0) * lattice.cols + (node.first - a0);
+      const std::size_t k =
+          static_cast<std::size_t>(node.second - b0) * lattice.cols + (node.first - a0);
       lattice.points[k] = saddles[j].pixel;
       lattice.found[k] = 1;
     }

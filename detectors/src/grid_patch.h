@@ -91,7 +91,8 @@ struct Lattice {
 /// checkerboard seen whole a lattice holds its inner corners, often with a
 /// ring of the board's outer corners or of clutter around them; the caller
 /// picks the board's rectangle and verifies it on the image.
-std::vector<Lattice> GrowLattices(const std::vector<SaddlePoint>& saddles, const std::vector<GridPatch>& patches,
+std::vector<Lattice> GrowLattices(const std::vector<SaddlePoint>& saddles,
+                                  const std::vector<GridPatch>& patches,
                                   const GridPatchOptions& options, std::size_t max_points);
 
 /// True when `saddles` hold a 3 x `options.rows` patch (FindGridPatches).

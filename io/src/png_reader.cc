@@ -10,10 +10,10 @@
 #include <cstring>
 #include <memory>
 #include <new>
-#include <optional>
-#include <vector>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <stdexcept>
+#include <vector>
 
 #include "handeye/core/error.h"
 
@@ -48,7 +48,8 @@ InputError Damaged(const std::string& path, int error) {
 }
 
 std::uint32_t BigEndian32(const std::uint8_t* p) {
-  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | std::uint32_t{p[3]};
+  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) |
+         std::uint32_t{p[3]};
 }
 
 /// PNG's Paeth predictor (PNG §9.4): of left, up and upper left, the one
@@ -68,15 +69,16 @@ template <int kBpp>
 void UnfilterSub(const std::uint8_t* raw, std::uint8_t* out, std::size_t row_bytes) {
   std::array<std::uint8_t, kBpp> left{};
   for (std::size_t i = 0; i + kBpp <= row_bytes; i += kBpp) {
-    for (int c = 0; c < kBpp; ++c) out[i + c] = left[c] = static_cast<std::uint8_t>(left[c] + raw[i + c]);
+    for (int c = 0; c < kBpp; ++c)
+      out[i + c] = left[c] = static_cast<std::uint8_t>(left[c] + raw[i + c]);
   }
 }
 
 /// Undoes one row's filter: `raw` (row_bytes) into `out`, with `up` the row
 /// above, already unfiltered (zeros above the first row), `bpp` bytes a
 /// pixel. False for a filter type PNG does not have.
-bool Unfilter(int type, const std::uint8_t* raw, const std::uint8_t* up, std::uint8_t* out, std::size_t row_bytes,
-              std::size_t bpp) {
+bool Unfilter(int type, const std::uint8_t* raw, const std::uint8_t* up, std::uint8_t* out,
+              std::size_t row_bytes, std::size_t bpp) {
   switch (type) {
     case 0:
       std::memcpy(out, raw, row_bytes);
@@ -87,7 +89,8 @@ bool Unfilter(int type, const std::uint8_t* raw, const std::uint8_t* up, std::ui
       if (bpp == 4) UnfilterSub<4>(raw, out, row_bytes);
       return true;
     case 2:
-      for (std::size_t i = 0; i < row_bytes; ++i) out[i] = static_cast<std::uint8_t>(raw[i] + up[i]);
+      for (std::size_t i = 0; i < row_bytes; ++i)
+        out[i] = static_cast<std::uint8_t>(raw[i] + up[i]);
       return true;
     case 3:
       for (std::size_t i = 0; i < row_bytes; ++i) {
@@ -115,7 +118,8 @@ struct DecompressorDeleter {
 /// file has another critical chunk or anything is damaged (a chunk's CRC,
 /// the zlib stream, its length, a filter type), so that libspng decodes it
 /// and says what is wrong.
-std::optional<cv::Mat> DecodeCommonPng(const std::uint8_t* data, std::size_t size, const spng_ihdr& header) {
+std::optional<cv::Mat> DecodeCommonPng(const std::uint8_t* data, std::size_t size,
+                                       const spng_ihdr& header) {
   int channels = 0, to_grey = -1;
   if (header.bit_depth != 8 || header.interlace_method != 0) return std::nullopt;
   if (header.color_type == SPNG_COLOR_TYPE_GRAYSCALE) {
@@ -143,11 +147,13 @@ std::optional<cv::Mat> DecodeCommonPng(const std::uint8_t* data, std::size_t siz
     end = std::memcmp(type, "IEND", 4) == 0;
     const bool critical = (type[0] & 0x20) == 0;
     if (idat) {
-      if (idat_run_over || libdeflate_crc32(0, type, length + 4) != BigEndian32(type + 4 + length)) return std::nullopt;
+      if (idat_run_over || libdeflate_crc32(0, type, length + 4) != BigEndian32(type + 4 + length))
+        return std::nullopt;
       stream.insert(stream.end(), type + 4, type + 4 + length);
     } else {
       if (!stream.empty()) idat_run_over = true;
-      if (critical && !end && std::memcmp(type, "IHDR", 4) != 0 && std::memcmp(type, "PLTE", 4) != 0)
+      if (critical && !end && std::memcmp(type, "IHDR", 4) != 0 &&
+          std::memcmp(type, "PLTE", 4) != 0)
         return std::nullopt;
     }
     at += 12 + std::size_t{length};
@@ -156,10 +162,11 @@ std::optional<cv::Mat> DecodeCommonPng(const std::uint8_t* data, std::size_t siz
   // One filter byte before every row; the stream must fill exactly that.
   const std::size_t filtered_size = (row_bytes + 1) * header.height;
   const std::unique_ptr<std::uint8_t[]> filtered(new std::uint8_t[filtered_size]);
-  std::unique_ptr<libdeflate_decompressor, DecompressorDeleter> inflater(libdeflate_alloc_decompressor());
+  std::unique_ptr<libdeflate_decompressor, DecompressorDeleter> inflater(
+      libdeflate_alloc_decompressor());
   if (!inflater) throw std::bad_alloc();
-  if (libdeflate_zlib_decompress(inflater.get(), stream.data(), stream.size(), filtered.get(), filtered_size,
-                                 nullptr) != LIBDEFLATE_SUCCESS)
+  if (libdeflate_zlib_decompress(inflater.get(), stream.data(), stream.size(), filtered.get(),
+                                 filtered_size, nullptr) != LIBDEFLATE_SUCCESS)
     return std::nullopt;
 
   cv::Mat grey(static_cast<int>(header.height), static_cast<int>(header.width), CV_8UC1);
@@ -167,7 +174,8 @@ std::optional<cv::Mat> DecodeCommonPng(const std::uint8_t* data, std::size_t siz
     const std::vector<std::uint8_t> zeros(row_bytes, 0);
     for (int y = 0; y < grey.rows; ++y) {
       const std::uint8_t* line = &filtered[y * (row_bytes + 1)];
-      if (!Unfilter(line[0], line + 1, y > 0 ? grey.ptr(y - 1) : zeros.data(), grey.ptr(y), row_bytes, 1))
+      if (!Unfilter(line[0], line + 1, y > 0 ? grey.ptr(y - 1) : zeros.data(), grey.ptr(y),
+                    row_bytes, 1))
         return std::nullopt;
     }
     return grey;
@@ -175,14 +183,16 @@ std::optional<cv::Mat> DecodeCommonPng(const std::uint8_t* data, std::size_t siz
   // Colour rows unfiltered a block at a time and turned grey by OpenCV (the
   // same weights as the other paths), so the colour image is never whole.
   constexpr int kBlockRows = 64;
-  cv::Mat block(kBlockRows + 1, static_cast<int>(header.width), CV_8UC(channels), cv::Scalar::all(0));
+  cv::Mat block(kBlockRows + 1, static_cast<int>(header.width), CV_8UC(channels),
+                cv::Scalar::all(0));
   for (int y0 = 0; y0 < grey.rows; y0 += kBlockRows) {
     const int rows = std::min(kBlockRows, grey.rows - y0);
     // Row 0 of the block holds the row above it (zeros above the image).
     if (y0 > 0) block.row(kBlockRows).copyTo(block.row(0));
     for (int r = 1; r <= rows; ++r) {
       const std::uint8_t* line = &filtered[(y0 + r - 1) * (row_bytes + 1)];
-      if (!Unfilter(line[0], line + 1, block.ptr(r - 1), block.ptr(r), row_bytes, channels)) return std::nullopt;
+      if (!Unfilter(line[0], line + 1, block.ptr(r - 1), block.ptr(r), row_bytes, channels))
+        return std::nullopt;
     }
     cv::Mat grey_rows = grey.rowRange(y0, y0 + rows);
     cv::cvtColor(block.rowRange(1, rows + 1), grey_rows, to_grey);
@@ -210,7 +220,8 @@ cv::Mat DecodePngGray(const std::uint8_t* data, std::size_t size, const std::str
   if (error) throw Damaged(path, error);
   // libspng has refused sides over 2^31 - 1, so they fit an int.
   check_size(header.width, header.height);
-  if (std::optional<cv::Mat> common = DecodeCommonPng(data, size, header)) return *std::move(common);
+  if (std::optional<cv::Mat> common = DecodeCommonPng(data, size, header))
+    return *std::move(common);
 
   // The output format closest to the file's own, so libspng converts little:
   // grey stays grey; colour, palette and grey + alpha become RGB; 16-bit

@@ -10,8 +10,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <memory>
-#include <vector>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "board_views.h"
 #include "handeye/detectors/registry.h"
@@ -129,8 +129,8 @@ TEST_CASE("Grid lattice: the patches of a board seen whole grow into all its inn
   for (const Case& c : cases) {
     INFO(c.what);
     auto board = std::make_shared<const CheckerboardTarget>(c.cols, c.rows, 0.03);
-    const Eigen::Isometry3d T_cam_target =
-        test::BoardPose(*board, f * 0.03 / c.square_px, c.in_plane_rad, c.tilt_rad, {1, 0.3}, {0.1, 0.05});
+    const Eigen::Isometry3d T_cam_target = test::BoardPose(
+        *board, f * 0.03 / c.square_px, c.in_plane_rad, c.tilt_rad, {1, 0.3}, {0.1, 0.05});
     REQUIRE(test::SheetInImage(camera, *board, T_cam_target, 5.0));
     RenderOptions options;
     options.seed = 7;
@@ -141,8 +141,8 @@ TEST_CASE("Grid lattice: the patches of a board seen whole grow into all its inn
     // of the half-resolution image of where it is.
     const std::vector<internal::SaddlePoint> saddles = HalfImageSaddles(image);
     internal::GridPatchOptions patch;
-    const std::vector<internal::Lattice> lattices =
-        internal::GrowLattices(saddles, internal::FindGridPatches(saddles, patch), patch, 4 * c.cols * c.rows);
+    const std::vector<internal::Lattice> lattices = internal::GrowLattices(
+        saddles, internal::FindGridPatches(saddles, patch), patch, 4 * c.cols * c.rows);
     REQUIRE_FALSE(lattices.empty());
     std::size_t best = 0;
     for (const internal::Lattice& lattice : lattices) {
@@ -150,7 +150,8 @@ TEST_CASE("Grid lattice: the patches of a board seen whole grow into all its inn
       for (const Eigen::Vector2d& t : truth) {
         for (std::size_t k = 0; k < lattice.points.size(); ++k) {
           const cv::Point& p = lattice.points[k];
-          near += lattice.found[k] && std::hypot(2.0 * p.x + 0.5 - t.x(), 2.0 * p.y + 0.5 - t.y()) < 3.0;
+          near += lattice.found[k] &&
+                  std::hypot(2.0 * p.x + 0.5 - t.x(), 2.0 * p.y + 0.5 - t.y()) < 3.0;
         }
       }
       best = std::max(best, near);
@@ -163,7 +164,8 @@ TEST_CASE("Grid lattice: the patches of a board seen whole grow into all its inn
     REQUIRE(detection->ids.size() == truth.size());
     for (std::size_t i = 0; i < detection->ids.size(); ++i) {
       const Eigen::Vector2d& t = truth[static_cast<std::size_t>(detection->ids[i])];
-      CHECK(std::hypot(detection->points_px[i].x() - t.x(), detection->points_px[i].y() - t.y()) < 0.25);
+      CHECK(std::hypot(detection->points_px[i].x() - t.x(), detection->points_px[i].y() - t.y()) <
+            0.25);
     }
   }
 }
