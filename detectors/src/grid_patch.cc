@@ -6,6 +6,7 @@
 #include <deque>
 #include <initializer_list>
 #include <map>
+#include <opencv2/imgproc.hpp>
 #include <optional>
 #include <utility>
 
@@ -274,6 +275,17 @@ std::vector<Lattice> GrowLattices(const std::vector<SaddlePoint>& all_saddles,
 
 bool HasGridPatch(const std::vector<SaddlePoint>& saddles, const GridPatchOptions& options) {
   return !FindGridPatches(saddles, options, 1).empty();
+}
+
+bool MayShowCornerGrid(const cv::Mat& gray, int rows) {
+  constexpr int kMinHalfSide = 240;
+  if (std::min(gray.cols, gray.rows) / 2 < kMinHalfSide) return true;
+  cv::Mat half;
+  cv::resize(gray(cv::Rect(0, 0, gray.cols / 2 * 2, gray.rows / 2 * 2)), half,
+             cv::Size(gray.cols / 2, gray.rows / 2), 0, 0, cv::INTER_AREA);
+  GridPatchOptions options;
+  options.rows = rows;
+  return HasGridPatch(FindSaddlePoints(half, SaddleRegionOptions{}), options);
 }
 
 }  // namespace handeye::internal

@@ -40,7 +40,9 @@ struct CharucoRejection {
 /// X junction of its two black squares and kept only when it agrees with the
 /// local homography of its two markers' eight corners, and when those eight
 /// fit one homography. A view needs `min_corners` corners that are not all
-/// on one line of the board.
+/// on one line of the board; on images of 480 px and more a side, it also
+/// needs a 3 x 2 block of the board's corners (a quick first stage that
+/// spares images without the board OpenCV's marker search).
 class CharucoDetector : public Detector {
  public:
   struct Options {
