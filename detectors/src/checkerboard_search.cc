@@ -27,11 +27,6 @@ namespace {
 /// px squares, 1/4 alone found 269 boards, 1/2 alone 322; a 1/3 level between
 /// them saved no time overall.)
 constexpr int kFactors[] = {4, 2, 1};
-/// A level whose shorter side would be smaller than this is skipped: the
-/// sector detector looks for corners in 17 px windows at its largest scale
-/// and leaves out one to three of them at the image's borders, so such a
-/// level holds too little image to be worth it.
-constexpr int kMinLevelSide = 240;
 /// Squares of margin kept around what may be a board's inner corners (a grid
 /// found but rejected, a cluster of saddle points) when it is searched in a
 /// crop: the outer squares, one more for a grid shifted by one line (see
@@ -52,29 +47,11 @@ constexpr int kCropMarginMinPx = 40;
 /// 4 px saved more but lost one view of 628 in the large cell.
 constexpr double kMinSaddleSpacingPx = 3.0;
 
-/// One level of the pyramid: the image scaled down by `factor` with every
-/// pixel the mean of a factor x factor block, so that level pixel k has its
-/// centre at factor * k + (factor - 1) / 2 in the full image (pixel centres
-/// at integers, SPEC §2). The full image is cut to a multiple of the factor
-/// first (at most factor - 1 pixels lost on the right and bottom), which keeps
-/// that mapping exact.
+/// One level of the pyramid: the image scaled down by `factor` (BlockMean).
 struct Level {
   int factor = 1;
   cv::Mat image;
 };
-
-Level MakeLevel(const cv::Mat& gray, int factor) {
-  Level level;
-  level.factor = factor;
-  if (factor == 1) {
-    level.image = gray;
-    return level;
-  }
-  const cv::Size size(gray.cols / factor, gray.rows / factor);
-  cv::resize(gray(cv::Rect(0, 0, size.width * factor, size.height * factor)), level.image, size, 0,
-             0, cv::INTER_AREA);
-  return level;
-}
 
 /// A grid that was found but rejected: the full-image region around it, and
 /// whether it is the board itself (most of its corners are X-junctions, not
@@ -311,8 +288,8 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
   // are looked for.
   cv::Mat half;
   auto level_of = [&](int f) {
-    if (f != 2) return MakeLevel(gray, f);
-    if (half.empty()) half = MakeLevel(gray, 2).image;
+    if (f != 2) return Level{f, BlockMean(gray, f)};
+    if (half.empty()) half = BlockMean(gray, 2);
     return Level{2, half};
   };
   // The saddle points of the half-resolution image, where the image has more

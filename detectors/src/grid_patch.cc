@@ -6,7 +6,6 @@
 #include <deque>
 #include <initializer_list>
 #include <map>
-#include <opencv2/imgproc.hpp>
 #include <optional>
 #include <utility>
 
@@ -278,14 +277,10 @@ bool HasGridPatch(const std::vector<SaddlePoint>& saddles, const GridPatchOption
 }
 
 bool MayShowCornerGrid(const cv::Mat& gray, int rows) {
-  constexpr int kMinHalfSide = 240;
-  if (std::min(gray.cols, gray.rows) / 2 < kMinHalfSide) return true;
-  cv::Mat half;
-  cv::resize(gray(cv::Rect(0, 0, gray.cols / 2 * 2, gray.rows / 2 * 2)), half,
-             cv::Size(gray.cols / 2, gray.rows / 2), 0, 0, cv::INTER_AREA);
+  if (std::min(gray.cols, gray.rows) / 2 < kMinLevelSide) return true;
   GridPatchOptions options;
   options.rows = rows;
-  return HasGridPatch(FindSaddlePoints(half, SaddleRegionOptions{}), options);
+  return HasGridPatch(FindSaddlePoints(BlockMean(gray, 2), SaddleRegionOptions{}), options);
 }
 
 }  // namespace handeye::internal

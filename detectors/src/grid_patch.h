@@ -97,8 +97,8 @@ std::vector<Lattice> GrowLattices(const std::vector<SaddlePoint>& saddles,
 
 /// True when `gray` (8-bit, single channel) may show a board of corners: the
 /// saddle points of its half-resolution image (pixels averaged 2 x 2) hold a
-/// 3 x `rows` patch, or the image is too small to tell (shorter side under
-/// 480 px). A few ms for 1920 x 1080.
+/// 3 x `rows` patch, or the image is too small to tell (half-resolution
+/// shorter side under kMinLevelSide). A few ms for 1920 x 1080.
 bool MayShowCornerGrid(const cv::Mat& gray, int rows);
 
 /// True when `saddles` hold a 3 x `options.rows` patch (FindGridPatches).

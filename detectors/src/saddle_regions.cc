@@ -8,6 +8,15 @@
 
 namespace handeye::internal {
 
+cv::Mat BlockMean(const cv::Mat& gray, int factor) {
+  if (factor == 1) return gray;
+  const cv::Size size(gray.cols / factor, gray.rows / factor);
+  cv::Mat scaled;
+  cv::resize(gray(cv::Rect(0, 0, size.width * factor, size.height * factor)), scaled, size, 0, 0,
+             cv::INTER_AREA);
+  return scaled;
+}
+
 std::vector<SaddlePoint> FindSaddlePoints(const cv::Mat& gray, const SaddleRegionOptions& options) {
   CV_Assert(gray.type() == CV_8UC1);
   std::vector<SaddlePoint> saddles;

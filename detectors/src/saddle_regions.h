@@ -10,6 +10,21 @@
 
 namespace handeye::internal {
 
+/// `gray` scaled down by `factor` with every pixel the mean of a factor x
+/// factor block, so that pixel k of the result has its centre at
+/// factor * k + (factor - 1) / 2 in `gray` (pixel centres at integers, SPEC
+/// §2). `gray` is cut to a multiple of the factor first (at most factor - 1
+/// pixels lost on the right and bottom), which keeps that mapping exact.
+/// Saddle points are looked for at factor 2.
+cv::Mat BlockMean(const cv::Mat& gray, int factor);
+
+/// A scaled image whose shorter side would be smaller than this is not
+/// searched: OpenCV's sector detector looks for corners in 17 px windows at
+/// its largest scale and leaves out one to three of them at the image's
+/// borders, so such an image holds too little to be worth it; and an image
+/// whose half-resolution image is smaller gets no first stage.
+constexpr int kMinLevelSide = 240;
+
 /// How SaddleRegions() looks for clusters of X-junctions.
 struct SaddleRegionOptions {
   /// Gaussian smoothing before the second derivatives, in pixels of the

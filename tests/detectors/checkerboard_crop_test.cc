@@ -18,12 +18,8 @@ using namespace handeye;
 
 namespace {
 
-cv::Mat Half(const cv::Mat& image) {
-  cv::Mat half;
-  cv::resize(image(cv::Rect(0, 0, image.cols / 2 * 2, image.rows / 2 * 2)), half,
-             cv::Size(image.cols / 2, image.rows / 2), 0, 0, cv::INTER_AREA);
-  return half;
-}
+/// The half-resolution image the first stage looks at.
+cv::Mat Half(const cv::Mat& image) { return internal::BlockMean(image, 2); }
 
 struct View {
   std::shared_ptr<const CheckerboardTarget> board;

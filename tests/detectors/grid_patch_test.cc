@@ -24,10 +24,29 @@ namespace {
 
 /// The saddle points of the image as the detector sees it: halved by averaging.
 std::vector<internal::SaddlePoint> HalfImageSaddles(const cv::Mat& image) {
-  cv::Mat half;
-  cv::resize(image(cv::Rect(0, 0, image.cols / 2 * 2, image.rows / 2 * 2)), half,
-             cv::Size(image.cols / 2, image.rows / 2), 0, 0, cv::INTER_AREA);
-  return internal::FindSaddlePoints(half, internal::SaddleRegionOptions{});
+  return internal::FindSaddlePoints(internal::BlockMean(image, 2), internal::SaddleRegionOptions{});
+}
+
+/// A rendered view of a checkerboard.
+struct BoardView {
+  std::shared_ptr<const CheckerboardTarget> board;
+  Eigen::Isometry3d T_cam_target;
+  cv::Mat image;
+};
+
+/// A `cols` x `rows` board of 3 cm squares, `square_px` across, tilted by
+/// `tilt_rad` about `tilt_axis` and turned by `in_plane_rad`, centred on the
+/// normalised image point `xy`; the whole sheet in the image.
+BoardView RenderBoard(const Camera& camera, int cols, int rows, double square_px,
+                      double in_plane_rad, double tilt_rad, const Eigen::Vector2d& tilt_axis,
+                      const Eigen::Vector2d& xy, const RenderOptions& options) {
+  BoardView view;
+  view.board = std::make_shared<const CheckerboardTarget>(cols, rows, 0.03);
+  view.T_cam_target = test::BoardPose(*view.board, camera.fx() * 0.03 / square_px, in_plane_rad,
+                                      tilt_rad, tilt_axis, xy);
+  REQUIRE(test::SheetInImage(camera, *view.board, view.T_cam_target, 5.0));
+  view.image = RenderView(camera, *view.board, view.T_cam_target, options);
+  return view;
 }
 
 /// HasGridPatch on the image as the detector sees it.
@@ -59,17 +78,14 @@ TEST_CASE("Grid patch: found on hard views of boards, which the detector still f
   std::uint64_t seed = 40;
   for (const Case& c : cases) {
     INFO(c.what);
-    auto board = std::make_shared<const CheckerboardTarget>(c.cols, c.rows, 0.03);
-    const Eigen::Isometry3d T_cam_target = test::BoardPose(
-        *board, f * 0.03 / c.square_px, c.in_plane_rad, c.tilt_rad, {1, 1}, {0.15, -0.1});
-    REQUIRE(test::SheetInImage(camera, *board, T_cam_target, 5.0));
     RenderOptions options;
     options.blur_sigma_px = c.blur_px;
     options.noise_sigma = c.noise;
     options.seed = ++seed;
-    const cv::Mat image = RenderView(camera, *board, T_cam_target, options);
-    CHECK(PatchInImage(image, std::min(c.rows, 3)));
-    CHECK(MakeDetector(board)->Detect(image));
+    const BoardView view = RenderBoard(camera, c.cols, c.rows, c.square_px, c.in_plane_rad,
+                                       c.tilt_rad, {1, 1}, {0.15, -0.1}, options);
+    CHECK(PatchInImage(view.image, std::min(c.rows, 3)));
+    CHECK(MakeDetector(view.board)->Detect(view.image));
   }
 }
 
@@ -133,14 +149,13 @@ TEST_CASE("Grid lattice: the patches of a board seen whole grow into all its inn
   const Camera camera = test::MakeTestCamera(width, height, f, test::MildDistortion());
   for (const Case& c : cases) {
     INFO(c.what);
-    auto board = std::make_shared<const CheckerboardTarget>(c.cols, c.rows, 0.03);
-    const Eigen::Isometry3d T_cam_target = test::BoardPose(
-        *board, f * 0.03 / c.square_px, c.in_plane_rad, c.tilt_rad, {1, 0.3}, {0.1, 0.05});
-    REQUIRE(test::SheetInImage(camera, *board, T_cam_target, 5.0));
     RenderOptions options;
     options.seed = 7;
-    const cv::Mat image = RenderView(camera, *board, T_cam_target, options);
-    const std::vector<Eigen::Vector2d> truth = test::TruePixels(camera, *board, T_cam_target);
+    const BoardView view = RenderBoard(camera, c.cols, c.rows, c.square_px, c.in_plane_rad,
+                                       c.tilt_rad, {1, 0.3}, {0.1, 0.05}, options);
+    const cv::Mat& image = view.image;
+    const std::vector<Eigen::Vector2d> truth =
+        test::TruePixels(camera, *view.board, view.T_cam_target);
 
     // Every inner corner is a node of one lattice, within a pixel and a half
     // of the half-resolution image of where it is.
@@ -164,7 +179,7 @@ TEST_CASE("Grid lattice: the patches of a board seen whole grow into all its inn
     CHECK(best == truth.size());
 
     // And the detector finds the board, every corner where it is.
-    const auto detection = MakeDetector(board)->Detect(image);
+    const auto detection = MakeDetector(view.board)->Detect(image);
     REQUIRE(detection);
     REQUIRE(detection->ids.size() == truth.size());
     for (std::size_t i = 0; i < detection->ids.size(); ++i) {
