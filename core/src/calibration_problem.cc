@@ -126,8 +126,9 @@ void SolvePnp(const Camera& camera, double max_rms_px, View* view) {
       view->oblique_deg = angle / kDeg;
       std::ostringstream why;
       why.precision(0);
-      why << std::fixed << "the target is seen " << angle / kDeg << " deg from face-on (more than "
-          << kMaxViewAngle / kDeg << "): its corners are too squeezed to give a good pose";
+      why << std::fixed << "the target is seen " << view->oblique_deg
+          << " deg from face-on (more than " << kMaxViewAngleDeg
+          << "): its corners are too squeezed to give a good pose";
       view->rejected_because = why.str();
     }
   }

@@ -86,6 +86,8 @@ constexpr size_t kMaxPartners = 48;
 struct MotionMismatch {
   double angle_rad = 0;
   double pitch_m = -1;  ///< < 0: not comparable (small rotation)
+  /// σ of the two differences that the two views' PnP noise alone gives.
+  double angle_noise_rad = 0, pitch_noise_m = 0;
 };
 
 MotionMismatch Compare(const Problem& problem, const View& a, const View& b) {
@@ -133,8 +135,9 @@ int RejectInconsistentMotions(Problem* problem) {
   for (const std::vector<int>& ids : problem->camera_views) {
     const size_t n = ids.size();
     if (n < 4) continue;  // three views: one pair against each; no majority to speak of
-    // What each view's rotation from PnP may be off by its own corners' noise
-    // alone (σ per axis, rad): much more for a board seen obliquely or small.
+    // What each view's rotation (σ per axis, rad) and position (σ, m) from
+    // PnP may be off by its own corners' noise alone: much more for a board
+    // seen obliquely or small.
     std::vector<double> pnp_rotation_rad(n), pnp_position_m(n);
     for (size_t a = 0; a < n; ++a) {
       const View& view = problem->views[ids[a]];
@@ -146,34 +149,30 @@ int RejectInconsistentMotions(Problem* problem) {
     // Each view against up to kMaxPartners others, spread over the camera's views.
     const size_t partners = std::min(n - 1, kMaxPartners);
     std::vector<std::vector<MotionMismatch>> mismatch(n);
-    // PnP's σ of each pair's angle and pitch differences.
-    std::vector<std::vector<double>> pair_rotation_rad(n), pair_position_m(n);
     std::vector<double> angles, pitches;
     for (size_t a = 0; a < n; ++a)
       for (size_t i = 1; i <= partners; ++i) {
         const size_t b = (a + i * (n - 1) / partners) % n;
-        const MotionMismatch m = Compare(*problem, problem->views[ids[a]], problem->views[ids[b]]);
+        MotionMismatch m = Compare(*problem, problem->views[ids[a]], problem->views[ids[b]]);
+        m.angle_noise_rad = std::hypot(pnp_rotation_rad[a], pnp_rotation_rad[b]);
+        m.pitch_noise_m = std::hypot(pnp_position_m[a], pnp_position_m[b]);
         mismatch[a].push_back(m);
-        pair_rotation_rad[a].push_back(std::hypot(pnp_rotation_rad[a], pnp_rotation_rad[b]));
-        pair_position_m[a].push_back(std::hypot(pnp_position_m[a], pnp_position_m[b]));
         angles.push_back(m.angle_rad);
         if (m.pitch_m >= 0) pitches.push_back(m.pitch_m);
       }
     // Tolerances from the camera's own pairs (≈ 4σ of the typical mismatch,
     // which PnP and the robot's own errors set), with floors for noise-free
-    // data; for the angle at least 4σ of what PnP's noise gives the pair (a
-    // board seen at 70° from face-on is turned by 0.1-0.2° by its corners'
-    // noise alone, and failed the typical pairs' tolerance against most of
-    // the views on a rendered cell).
+    // data; for each pair at least 4σ of what PnP's noise gives it (on a
+    // rendered cell good views at 65-70° from face-on failed the typical
+    // pairs' pitch tolerance against most of the views).
     const double angle_tolerance = std::max(0.1 * kDeg, 6.0 * Median(angles));
     const double pitch_tolerance = std::max(1e-3, 6.0 * Median(pitches));
     std::vector<double> support(n);
     for (size_t a = 0; a < n; ++a) {
       int agree = 0;
-      for (size_t i = 0; i < mismatch[a].size(); ++i) {
-        const MotionMismatch& m = mismatch[a][i];
-        const double angle_limit = std::max(angle_tolerance, 4.0 * pair_rotation_rad[a][i]);
-        const double pitch_limit = std::max(pitch_tolerance, 4.0 * pair_position_m[a][i]);
+      for (const MotionMismatch& m : mismatch[a]) {
+        const double angle_limit = std::max(angle_tolerance, 4.0 * m.angle_noise_rad);
+        const double pitch_limit = std::max(pitch_tolerance, 4.0 * m.pitch_noise_m);
         agree += m.angle_rad <= angle_limit && m.pitch_m <= pitch_limit ? 1 : 0;
       }
       support[a] = static_cast<double>(agree) / mismatch[a].size();
