@@ -123,36 +123,100 @@ SolverSummary Solve(ceres::Solver::Options solver, const CalibrationOptions& opt
   return out;
 }
 
+/// A robot pose block and the residual block of its prior.
+struct RobotPoseBlock {
+  double* pose;
+  ceres::ResidualBlockId prior;
+};
+
+/// Where the robot's error the covariance assumes (RobotPrior::settled_sigma_m)
+/// differs from the σ of the prior the solve weighed the records with, the
+/// covariance of the estimate is the sandwich A⁻¹ B A⁻¹: A = JᵀJ as solved,
+/// B = JᵀΣJ with the prior residuals' variance scaled by D = (settled / prior σ)²,
+/// i.e. B = A − Σ_j J_jᵀ(I − D)J_j over the prior blocks j, and
+/// Cov_xy = [A⁻¹]_xy − Σ_j [A⁻¹]_xj M_j [A⁻¹]_jy with M_j = J_jᵀ(I − D)J_j.
+/// `C(a, b)` reads [A⁻¹]_ab in tangent space, `prior_jacobian` J_j; returns
+/// the correction Σ_j … for the block x (x = y).
+template <typename CovarianceBlock, typename PriorJacobian>
+Eigen::MatrixXd SandwichCorrection(const std::vector<RobotPoseBlock>& robot_poses,
+                                   const RobotPrior& robot, const CovarianceBlock& C,
+                                   const PriorJacobian& prior_jacobian, const double* x) {
+  Eigen::Matrix<double, 6, 1> keep;  // 1 − D per prior residual (rotation, then translation)
+  const double rotation = robot.settled_sigma_rad / robot.sigma_rad,
+               translation = robot.settled_sigma_m / robot.sigma_m;
+  keep << Eigen::Vector3d::Constant(1.0 - rotation * rotation),
+      Eigen::Vector3d::Constant(1.0 - translation * translation);
+  Eigen::MatrixXd sum;
+  for (const RobotPoseBlock& block : robot_poses) {
+    const Eigen::MatrixXd J = prior_jacobian(block);
+    const Eigen::MatrixXd M = J.transpose() * keep.asDiagonal() * J;
+    const Eigen::MatrixXd C_xj = C(x, block.pose);
+    const Eigen::MatrixXd term = C_xj * M * C_xj.transpose();
+    sum = sum.size() ? Eigen::MatrixXd(sum + term) : term;
+  }
+  return sum;
+}
+
 /// The covariance of the solution: tangent-space 6×6 of the pose blocks
 /// T_cam_mount and T_holder_target, and 1σ of every intrinsic parameter, from the Jacobian at the
 /// solution scaled by the a posteriori variance factor (the residuals' own
 /// scale) and by the view design factor (an error the points of a view share,
-/// e.g. a robot pose error not modelled, counts once per view, not per point).
-/// Fills `out`; leaves it empty when the Jacobian is rank deficient.
-void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_cam_mount, double* T_holder_target,
-                        const std::vector<double*>& K, const std::vector<ceres::ResidualBlockId>& views, int threads,
+/// e.g. a robot pose error not modelled, counts once per view, not per point);
+/// with robot pose blocks whose settled σ differs from their prior's, the
+/// sandwich of SandwichCorrection. Fills `out`; leaves it empty when the
+/// Jacobian is rank deficient.
+void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_cam_mount,
+                        double* T_holder_target, const std::vector<double*>& K,
+                        const std::vector<ceres::ResidualBlockId>& views,
+                        const std::optional<RobotPrior>& robot,
+                        const std::vector<RobotPoseBlock>& robot_poses, int threads,
                         Refinement* out) {
   constexpr int kN = OpenCVCameraModel::kNumParams;
   out->intrinsics_sigma.assign(K.size(), {});
   for (auto& s : out->intrinsics_sigma) s.fill(0.0);
   out->T_cam_mount_covariance.assign(T_cam_mount.size(), std::nullopt);
   out->T_holder_target_covariance.reset();
-  std::vector<std::pair<const double*, const double*>> pairs;
+  const bool sandwich =
+      robot && robot->settled_sigma_m > 0 && robot->settled_sigma_rad > 0 &&
+      (robot->settled_sigma_m != robot->sigma_m || robot->settled_sigma_rad != robot->sigma_rad);
+  std::vector<double*> wanted;  // the blocks whose covariance the result reports
   for (double* block : T_cam_mount)
-    if (block && !problem->IsParameterBlockConstant(block)) pairs.emplace_back(block, block);
-  pairs.emplace_back(T_holder_target, T_holder_target);
+    if (block && !problem->IsParameterBlockConstant(block)) wanted.push_back(block);
+  wanted.push_back(T_holder_target);
   for (double* block : K)
-    if (block) pairs.emplace_back(block, block);
+    if (block) wanted.push_back(block);
+  std::vector<std::pair<const double*, const double*>> pairs;
+  for (double* block : wanted) {
+    pairs.emplace_back(block, block);
+    if (sandwich)
+      for (const RobotPoseBlock& pose : robot_poses) pairs.emplace_back(block, pose.pose);
+  }
   const double variance_factor = VarianceFactor(problem, views);
   ceres::Covariance::Options covariance_options;
   covariance_options.algorithm_type = ceres::SPARSE_QR;
   covariance_options.num_threads = threads;
   ceres::Covariance covariance(covariance_options);
   const bool ok = covariance.Compute(pairs, problem);
-  using Matrix6 = Eigen::Matrix<double, 6, 6, Eigen::RowMajor>;
+
+  // The prior's Jacobian (6 residuals) in the tangent space of the pose block.
+  auto prior_jacobian = [&](const RobotPoseBlock& block) {
+    Eigen::Matrix<double, 6, 6, Eigen::RowMajor> J;
+    double* jacobians[] = {J.data()};
+    double cost;
+    Eigen::Matrix<double, 6, 1> residuals;
+    problem->EvaluateResidualBlock(block.prior, false, &cost, residuals.data(), jacobians);
+    return Eigen::MatrixXd(J);
+  };
+  auto tangent_block = [&](const double* a, const double* b) {
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> C(
+        problem->ParameterBlockTangentSize(a), problem->ParameterBlockTangentSize(b));
+    covariance.GetCovarianceBlockInTangentSpace(a, b, C.data());
+    return Eigen::MatrixXd(C);
+  };
   auto pose_covariance = [&](const double* block) {
-    Matrix6 C;
-    covariance.GetCovarianceBlockInTangentSpace(block, block, C.data());
+    Eigen::MatrixXd C = tangent_block(block, block);
+    if (sandwich)
+      C -= SandwichCorrection(robot_poses, *robot, tangent_block, prior_jacobian, block);
     return Eigen::Matrix<double, 6, 6>(C * variance_factor);
   };
   if (ok) {
@@ -163,9 +227,21 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
   }
   for (size_t k = 0; k < K.size(); ++k) {
     if (!K[k]) continue;
-    Eigen::Matrix<double, kN, kN, Eigen::RowMajor> C = Eigen::Matrix<double, kN, kN, Eigen::RowMajor>::Zero();
-    if (ok) covariance.GetCovarianceBlock(K[k], K[k], C.data());
+    Eigen::Matrix<double, kN, kN, Eigen::RowMajor> C =
+        Eigen::Matrix<double, kN, kN, Eigen::RowMajor>::Zero();
     const ceres::Manifold* manifold = problem->GetManifold(K[k]);
+    if (ok) {
+      covariance.GetCovarianceBlock(K[k], K[k], C.data());
+      if (sandwich) {
+        // The correction in the tangent space (the free intrinsics), back to all 18.
+        Eigen::Matrix<double, kN, Eigen::Dynamic, Eigen::RowMajor> P =
+            Eigen::Matrix<double, kN, Eigen::Dynamic, Eigen::RowMajor>::Identity(
+                kN, problem->ParameterBlockTangentSize(K[k]));
+        if (manifold) manifold->PlusJacobian(K[k], P.data());
+        C -= P * SandwichCorrection(robot_poses, *robot, tangent_block, prior_jacobian, K[k]) *
+             P.transpose();
+      }
+    }
     for (int p = 0; p < kN; ++p)
       out->intrinsics_sigma[k][p] =
           ok ? std::sqrt(std::max(0.0, C(p, p)) * variance_factor) : std::numeric_limits<double>::infinity();
@@ -225,6 +301,7 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
   // With a robot prior, each robot pose with a used view is a block, tied to
   // the reported pose by its prior.
   std::vector<double*> T_mount_holder(dataset.poses.size(), nullptr);
+  std::vector<RobotPoseBlock> robot_poses;
   auto robot_pose = [&](int j) {
     if (!T_mount_holder[j]) {
       T_mount_holder[j] = blocks.Add(j < static_cast<int>(init.T_mount_holder.size()) && init.T_mount_holder[j]
@@ -232,10 +309,12 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
                                          : problem.T_mount_holder[j]);
       ceres_problem.AddParameterBlock(T_mount_holder[j], 7);
       SetPoseManifold(&ceres_problem, T_mount_holder[j]);
-      ceres_problem.AddResidualBlock(
-          RobotPosePrior::Create(dataset.poses[j].T_base_ee, FramesOf(dataset.setup).RobotPoseInverted(),
-                                 robot->sigma_rad, robot->sigma_m, robot->pixel_sigma_px),
+      const ceres::ResidualBlockId prior = ceres_problem.AddResidualBlock(
+          RobotPosePrior::Create(dataset.poses[j].T_base_ee,
+                                 FramesOf(dataset.setup).RobotPoseInverted(), robot->sigma_rad,
+                                 robot->sigma_m, robot->pixel_sigma_px),
           nullptr, T_mount_holder[j]);
+      robot_poses.push_back({T_mount_holder[j], prior});
     }
     return T_mount_holder[j];
   };
@@ -340,7 +419,8 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
   for (size_t j = 0; j < T_mount_holder.size(); ++j)
     if (T_mount_holder[j]) out.T_mount_holder[j] = PoseBlocks::Get(T_mount_holder[j]);
   if (step == JointStep::kCovariance)
-    SolutionCovariance(&ceres_problem, T_cam_mount, T_holder_target, K_block, direct_blocks, options.threads, &out);
+    SolutionCovariance(&ceres_problem, T_cam_mount, T_holder_target, K_block, direct_blocks, robot,
+                       robot_poses, options.threads, &out);
   return out;
 }
 
