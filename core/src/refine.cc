@@ -177,7 +177,7 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
   out->T_cam_mount_covariance.assign(T_cam_mount.size(), std::nullopt);
   out->T_holder_target_covariance.reset();
   const bool sandwich =
-      robot && robot->settled_sigma_m > 0 && robot->settled_sigma_rad > 0 &&
+      robot && !robot_poses.empty() && robot->settled_sigma_m > 0 && robot->settled_sigma_rad > 0 &&
       (robot->settled_sigma_m != robot->sigma_m || robot->settled_sigma_rad != robot->sigma_rad);
   std::vector<double*> wanted;  // the blocks whose covariance the result reports
   for (double* block : T_cam_mount)
