@@ -10,6 +10,7 @@
 //   bench_uncertainty --cells small,medium,large --robot 0/0,0.1/0.01,0.3/0.03
 //       --noise 0.1,0.3 --seeds 6 --poses 20   (one line)
 //   bench_uncertainty --source images --noise 2,6 --image-size 1280x720 ...
+//   bench_uncertainty --source images --intrinsics-off 0/0,1/3   (given intrinsics 1 %, 3 px off)
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
@@ -27,7 +28,7 @@ using namespace handeye::bench;
 int main(int argc, char** argv) {
   CLI::App app{"handeye: coverage of the result's 1σ against the truth"};
   std::string cells = "small,medium,large", robot = "0/0,0.1/0.01,0.3/0.03", noise = "0.1,0.3";
-  std::string source = "projected", image_size;
+  std::string source = "projected", image_size, intrinsics_off = "0/0";
   int seeds = 6, poses = 20, threads = 0;
   bool given_robot_sigma = false;
   app.add_option("--cells", cells, "cells");
@@ -41,74 +42,103 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "images: render/detect threads (0 = all cores)");
   app.add_option("--seeds", seeds, "scenes per combination");
   app.add_option("--poses", poses, "robot poses per scene");
+  app.add_option(
+      "--intrinsics-off", intrinsics_off,
+      "images: the given intrinsics off by PCT % in focal length and PX in the principal point "
+      "(even cameras +, odd −), PCT/PX comma-separated; the detections use the true ones");
   app.add_flag("--given-robot-sigma", given_robot_sigma,
                "give the solver the simulated robot σ instead of letting it estimate it");
   CLI11_PARSE(app, argc, argv);
 
-  Table table({"cell", "robot σ", source == "images" ? "noise grey" : "noise px", "cameras", "e_t ≤ 2σ", "e_θ ≤ 2σ", "median e_t/σ", "mean σ mm",
-               "mean e_t mm", "modelled robot σ"});
+  if (source != "images" && intrinsics_off != "0/0") {
+    std::fprintf(stderr, "--intrinsics-off: with --source images only\n");
+    return 2;
+  }
+  Table table({"cell", "robot σ", source == "images" ? "noise grey" : "noise px", "intrinsics off",
+               "cameras", "e_t ≤ 2σ", "e_θ ≤ 2σ", "median e_t/σ", "mean σ mm", "mean e_t mm",
+               "modelled robot σ"});
   int all_cameras = 0, all_t = 0, all_r = 0, scenes = 0;
   for (const std::string& cell : SplitList(cells))
     for (const std::string& r : SplitList(robot))
-      for (const std::string& n : SplitList(noise)) {
-        const auto slash = r.find('/');
-        const double robot_mm = std::stod(r.substr(0, slash)), robot_deg = std::stod(r.substr(slash + 1));
-        const double noise = std::stod(n);
-        SceneOptions options;
-        options.cell = cell;
-        options.num_cameras = 4;
-        options.num_poses = poses;
-        options.pose_noise_mm = robot_mm;
-        options.pose_noise_deg = robot_deg;
-        if (!image_size.empty() && std::sscanf(image_size.c_str(), "%dx%d", &options.width, &options.height) != 2) {
-          std::fprintf(stderr, "--image-size: expected WIDTHxHEIGHT\n");
-          return 2;
-        }
-        CalibrationOptions calibration;
-        if (given_robot_sigma && robot_mm > 0) {
-          calibration.robot_sigma_mm = robot_mm;
-          calibration.robot_sigma_deg = robot_deg;
-        }
-        SigmaCoverage c;
-        if (source == "projected") {
-          c = MeasureSigmaCoverage(options, noise, seeds, 1001, calibration);
-        } else {
-          for (int i = 0; i < seeds; ++i) {
-            options.seed = 1001 + i;
-            SyntheticScene scene = MakeScene(options, std::make_shared<const CheckerboardTarget>(7, 4, 0.04));
-            RenderOptions render;
-            render.seed = options.seed * 1000003u;
-            render.noise_sigma = noise;
-            // Only the views that show the target: the others are found empty
-            // and add nothing to σ, and rendering them tripled a scene's time.
-            render.every_view = false;
-            DetectSimulated(&scene, render, threads);
-            try {
-              AddToCoverage(Calibrate(scene.dataset, calibration), scene.truth, &c);
-            } catch (const std::exception& e) {
-              c.failures.push_back(cell + " seed " + std::to_string(options.seed) + ": " + e.what());
-            }
-            std::fprintf(stderr, "\r%s, robot %s, noise %s: seed %d/%d   ", cell.c_str(), r.c_str(), n.c_str(), i + 1,
-                         seeds);
+      for (const std::string& n : SplitList(noise))
+        for (const std::string& off : SplitList(intrinsics_off)) {
+          const auto slash = r.find('/');
+          const double robot_mm = std::stod(r.substr(0, slash)),
+                       robot_deg = std::stod(r.substr(slash + 1));
+          const double noise = std::stod(n);
+          SceneOptions options;
+          options.cell = cell;
+          options.num_cameras = 4;
+          options.num_poses = poses;
+          options.pose_noise_mm = robot_mm;
+          options.pose_noise_deg = robot_deg;
+          if (!image_size.empty() &&
+              std::sscanf(image_size.c_str(), "%dx%d", &options.width, &options.height) != 2) {
+            std::fprintf(stderr, "--image-size: expected WIDTHxHEIGHT\n");
+            return 2;
           }
+          CalibrationOptions calibration;
+          if (given_robot_sigma && robot_mm > 0) {
+            calibration.robot_sigma_mm = robot_mm;
+            calibration.robot_sigma_deg = robot_deg;
+          }
+          SigmaCoverage c;
+          if (source == "projected") {
+            c = MeasureSigmaCoverage(options, noise, seeds, 1001, calibration);
+          } else {
+            for (int i = 0; i < seeds; ++i) {
+              options.seed = 1001 + i;
+              SyntheticScene scene =
+                  MakeScene(options, std::make_shared<const CheckerboardTarget>(7, 4, 0.04));
+              RenderOptions render;
+              render.seed = options.seed * 1000003u;
+              render.noise_sigma = noise;
+              // Only the views that show the target: the others are found empty
+              // and add nothing to σ, and rendering them tripled a scene's time.
+              render.every_view = false;
+              DetectSimulated(&scene, render, threads);
+              const auto off_slash = off.find('/');
+              const double off_pct = std::stod(off.substr(0, off_slash)),
+                           off_px = std::stod(off.substr(off_slash + 1));
+              for (size_t k = 0; k < scene.dataset.cameras.size(); ++k) {
+                const double sign = k % 2 == 0 ? 1.0 : -1.0;
+                auto& p = scene.dataset.cameras[k].params;
+                p[0] *= 1.0 + 0.01 * off_pct * sign;
+                p[1] *= 1.0 + 0.01 * off_pct * sign;
+                p[2] += off_px * sign;
+                p[3] -= off_px * sign;
+              }
+              try {
+                AddToCoverage(Calibrate(scene.dataset, calibration), scene.truth, &c);
+              } catch (const std::exception& e) {
+                c.failures.push_back(cell + " seed " + std::to_string(options.seed) + ": " +
+                                     e.what());
+              }
+              std::fprintf(stderr, "\r%s, robot %s, noise %s: seed %d/%d   ", cell.c_str(),
+                           r.c_str(), n.c_str(), i + 1, seeds);
+            }
+          }
+          for (const auto& failure : c.failures) std::fprintf(stderr, "%s\n", failure.c_str());
+          scenes += c.scenes;
+          const int cameras = c.cameras, within_t = c.position_within_2sigma,
+                    within_r = c.rotation_within_2sigma;
+          std::vector<double> ratio;
+          for (size_t i = 0; i < c.position_error_mm.size(); ++i)
+            ratio.push_back(c.position_error_mm[i] / c.position_sigma_mm[i]);
+          const std::vector<double>& sigma_mm = c.position_sigma_mm;
+          const std::vector<double>& error_mm = c.position_error_mm;
+          all_cameras += cameras;
+          all_t += within_t;
+          all_r += within_r;
+          table.Add({cell, r, n, off, std::to_string(cameras),
+                     Format("%.0f %%", 100.0 * within_t / std::max(1, cameras)),
+                     Format("%.0f %%", 100.0 * within_r / std::max(1, cameras)),
+                     Format("%.2f", Median(ratio)), Format("%.3f", Mean(sigma_mm)),
+                     Format("%.3f", Mean(error_mm)),
+                     Format("%.2f/%.3f", Median(c.robot_sigma_mm), Median(c.robot_sigma_deg))});
         }
-        for (const auto& failure : c.failures) std::fprintf(stderr, "%s\n", failure.c_str());
-        scenes += c.scenes;
-        const int cameras = c.cameras, within_t = c.position_within_2sigma, within_r = c.rotation_within_2sigma;
-        std::vector<double> ratio;
-        for (size_t i = 0; i < c.position_error_mm.size(); ++i)
-          ratio.push_back(c.position_error_mm[i] / c.position_sigma_mm[i]);
-        const std::vector<double>& sigma_mm = c.position_sigma_mm;
-        const std::vector<double>& error_mm = c.position_error_mm;
-        all_cameras += cameras;
-        all_t += within_t;
-        all_r += within_r;
-        table.Add({cell, r, n, std::to_string(cameras), Format("%.0f %%", 100.0 * within_t / std::max(1, cameras)),
-                   Format("%.0f %%", 100.0 * within_r / std::max(1, cameras)), Format("%.2f", Median(ratio)),
-                   Format("%.3f", Mean(sigma_mm)), Format("%.3f", Mean(error_mm)),
-                   Format("%.2f/%.3f", Median(c.robot_sigma_mm), Median(c.robot_sigma_deg))});
-      }
-  table.Add({"all", "", "", std::to_string(all_cameras), Format("%.1f %%", 100.0 * all_t / std::max(1, all_cameras)),
+  table.Add({"all", "", "", "", std::to_string(all_cameras),
+             Format("%.1f %%", 100.0 * all_t / std::max(1, all_cameras)),
              Format("%.1f %%", 100.0 * all_r / std::max(1, all_cameras)), "", "", "", ""});
   std::printf("%s", table.Markdown().c_str());
   std::printf("\nmodelled robot σ: median over the scenes, mm/deg per axis (0: the solve did not model it).\n");

@@ -156,6 +156,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   std::optional<internal::RobotPrior> robot_model;  // the joint solve's, when it modelled the robot's error
   std::vector<std::vector<int>> free_intrinsics;      // the joint solve's, by camera
   std::map<size_t, PoseUncertainty> camera_sigma;
+  std::map<size_t, Eigen::Matrix<double, 6, 6>> camera_covariance;  // tangent of T_cam_mount
   std::vector<CameraResult::CrossValidation> camera_validation;
   if (options.method == Method::kJoint) {
     internal::Initialisation init = internal::InitialiseJoint(problem);
@@ -287,8 +288,10 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
         internal::RefineJoint(problem, init, final_options, robot, internal::JointStep::kCovariance);
     if (options.cross_validate) internal::CrossValidate(problem, init, final_options, robot, &camera_validation);
     for (size_t k = 0; k < num_cameras; ++k)
-      if (est.T_cam_mount[k] && covariance.T_cam_mount_covariance[k])
-        camera_sigma[k] = internal::UncertaintyOf(*est.T_cam_mount[k], *covariance.T_cam_mount_covariance[k], true);
+      if (est.T_cam_mount[k] && covariance.T_cam_mount_covariance[k]) {
+        camera_covariance[k] = *covariance.T_cam_mount_covariance[k];
+        camera_sigma[k] = internal::UncertaintyOf(*est.T_cam_mount[k], camera_covariance[k], true);
+      }
     if (covariance.T_holder_target_covariance)
       result.target_sigma =
           internal::UncertaintyOf(est.shared_T_holder_target, *covariance.T_holder_target_covariance, false);
@@ -428,10 +431,17 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     if (camera_validation[k].folds > 0) result.cameras[k].cross_validation = camera_validation[k];
   if (options.check_intrinsics) {
     // Focal length and principal point not refined: do the views agree with them?
+    std::map<size_t, Eigen::Matrix<double, 6, 1>> shift;
     const auto intrinsics_warnings = internal::IntrinsicsWarnings(
         problem, est.T_cam_mount, T_holder_target, std::max(1.0, result.solver.cauchy_scale_px),
-        UnrefinedIntrinsics(free_intrinsics, num_cameras), robot_model);
+        UnrefinedIntrinsics(free_intrinsics, num_cameras), robot_model, &shift);
     result.warnings.insert(result.warnings.end(), intrinsics_warnings.begin(), intrinsics_warnings.end());
+    // Intrinsics the views find off bias the camera, which no covariance of
+    // the solve with them held holds: its σ takes the shift as a term of its own.
+    for (const auto& [k, moved] : shift)
+      if (camera_covariance.count(k))
+        result.cameras[k].sigma = internal::UncertaintyOf(
+            *est.T_cam_mount[k], camera_covariance[k] + moved * moved.transpose(), true);
   }
   const auto quality = internal::DiagnoseSolution(problem, est.T_cam_mount, T_holder_target, options, &result);
   result.warnings.insert(result.warnings.end(), quality.begin(), quality.end());

@@ -297,10 +297,15 @@ void RecomputePnp(Problem* problem, double max_rms_px);
 /// the given values by more than 3σ and by a visible amount (0.3 % of the
 /// focal length, 0.5 px).
 /// With `robot`, each robot pose is a block under that prior, as in the joint solve.
-std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
-                                            const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                                            const TargetPoses& T_holder_target, double cauchy_scale_px,
-                                            const std::vector<unsigned>& check, const std::optional<RobotPrior>& robot);
+/// With `shift`: per camera warned about, how far the given values of the
+/// groups it names move T_cam_mount from where the views' own intrinsics put
+/// it (tangent of T_cam_mount, linearised: C_xK C_KK⁻¹ ΔK from the same
+/// covariance); a bias the covariance of the joint solve does not hold.
+std::vector<std::string> IntrinsicsWarnings(
+    const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+    const TargetPoses& T_holder_target, double cauchy_scale_px, const std::vector<unsigned>& check,
+    const std::optional<RobotPrior>& robot,
+    std::map<size_t, Eigen::Matrix<double, 6, 1>>* shift = nullptr);
 
 /// RMS of a view's point errors (pixels), and the largest in *max_error (may be null).
 double ViewRms(const std::vector<double>& errors, double* max_error = nullptr);

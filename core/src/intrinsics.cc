@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <opencv2/calib3d.hpp>
 #include <sstream>
@@ -135,6 +136,18 @@ double ViewDesignFactor(const ceres::Problem& problem, const std::vector<ceres::
   return std::max(1.0, (sum_view / used) / (sum_sq / points));
 }
 
+/// How far (mm) the camera centre of the T_cam_mount block `T` moves for the
+/// tangent step `step` of its pose manifold.
+double MovedMm(const PoseParams& T, const Eigen::Matrix<double, 6, 1>& step) {
+  using PoseManifold =
+      ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>;
+  PoseParams moved;
+  PoseManifold().Plus(T.data(), step.data(), moved.data());
+  return 1000.0 * (FromPoseParams(T.data()).inverse().translation() -
+                   FromPoseParams(moved.data()).inverse().translation())
+                      .norm();
+}
+
 }  // namespace
 
 double VarianceFactor(ceres::Problem* problem, const std::vector<ceres::ResidualBlockId>& views) {
@@ -231,11 +244,10 @@ Camera EstimateIntrinsics(const Dataset& dataset, int k) {
   return *estimated;
 }
 
-std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
-                                            const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                                            const TargetPoses& T_holder_target, double cauchy_scale_px,
-                                            const std::vector<unsigned>& check,
-                                            const std::optional<RobotPrior>& robot) {
+std::vector<std::string> IntrinsicsWarnings(
+    const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+    const TargetPoses& T_holder_target, double cauchy_scale_px, const std::vector<unsigned>& check,
+    const std::optional<RobotPrior>& robot, std::map<size_t, Eigen::Matrix<double, 6, 1>>* shift) {
   using PoseManifold = ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>;
   const Dataset& dataset = *problem.dataset;
   std::vector<std::string> warnings;
@@ -290,8 +302,9 @@ std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
     ceres::Covariance::Options covariance_options;
     covariance_options.algorithm_type = robot ? ceres::SPARSE_QR : ceres::DENSE_SVD;
     ceres::Covariance covariance(covariance_options);
-    const std::vector<std::pair<const double*, const double*>> block = {{K.data(), K.data()}};
-    if (!covariance.Compute(block, &ceres_problem)) continue;
+    const std::vector<std::pair<const double*, const double*>> blocks = {
+        {K.data(), K.data()}, {T_cam_mount_k.data(), K.data()}};
+    if (!covariance.Compute(blocks, &ceres_problem)) continue;
     Eigen::Matrix<double, kN, kN, Eigen::RowMajor> C;
     covariance.GetCovarianceBlock(K.data(), K.data(), C.data());
     const double variance_factor = VarianceFactor(&ceres_problem, view_blocks);
@@ -304,6 +317,21 @@ std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
     const bool focal_off = (check[k] & kFocal) && (off(0, 0.003 * camera.fx()) || off(1, 0.003 * camera.fy()));
     const bool centre_off = (check[k] & kPrincipalPoint) && (off(2, 0.5) || off(3, 0.5));
     if (!focal_off && !centre_off) continue;
+    // Where the given values of the groups found off put the camera, against
+    // the views' own: the conditional mean C_xK C_KK⁻¹ ΔK over fx, fy, cx, cy
+    // (the subset manifold's tangent), the other group's ΔK 0.
+    Eigen::Matrix<double, 6, 1> moved = Eigen::Matrix<double, 6, 1>::Zero();
+    {
+      Eigen::Matrix<double, 4, 4, Eigen::RowMajor> C_KK;
+      Eigen::Matrix<double, 6, 4, Eigen::RowMajor> C_xK;
+      covariance.GetCovarianceBlockInTangentSpace(K.data(), K.data(), C_KK.data());
+      covariance.GetCovarianceBlockInTangentSpace(T_cam_mount_k.data(), K.data(), C_xK.data());
+      Eigen::Vector4d given_minus_seen = Eigen::Vector4d::Zero();
+      for (int p = 0; p < 4; ++p)
+        if ((p < 2 && focal_off) || (p >= 2 && centre_off)) given_minus_seen[p] = -delta[p];
+      moved = C_xK * C_KK.ldlt().solve(given_minus_seen);
+    }
+    if (shift) (*shift)[k] = moved;
     std::ostringstream w;
     w << std::fixed;
     w.precision(1);
@@ -325,8 +353,9 @@ std::vector<std::string> IntrinsicsWarnings(const Problem& problem,
     }
     const std::string text = w.str();
     if (text.back() != '?') w << ";";
-    w << " rerun with --refine-intrinsics " << groups[0] << (groups.size() > 1 ? "," + groups[1] : "")
-      << " (the poses' σ assumes the given intrinsics)";
+    w << " rerun with --refine-intrinsics " << groups[0]
+      << (groups.size() > 1 ? "," + groups[1] : "") << " (the given values move the camera by ≈ "
+      << std::setprecision(2) << MovedMm(T_cam_mount_k, moved) << " mm, which its sigma includes)";
     warnings.push_back(w.str());
   }
   return warnings;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Intrinsics nobody fully trusts: factory values 1 % off, a camera given
 // none, views too few to tell; the check after a default solve.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <random>
@@ -93,6 +94,20 @@ TEST_CASE("Intrinsics 1 % off: the default solve warns, the refined one recovers
     // Every camera is named, with the flag to use.
     CHECK(WarningsContaining(off, "--refine-intrinsics") == 4);
     CHECK(WarningsContaining(off, "fx, fy ≈") >= 3);
+    CHECK(WarningsContaining(off, "which its sigma includes") == 4);
+    // The bias the given intrinsics cause is in each camera's σ: the error
+    // (10–30 mm) lies within 2σ, and σ is not uselessly wide.
+    const auto errors = EvaluateAgainstTruth(off, scene.truth);
+    for (const auto& camera : errors.cameras) {
+      const auto it = std::find_if(off.cameras.begin(), off.cameras.end(),
+                                   [&](const CameraResult& c) { return c.name == camera.name; });
+      REQUIRE(it != off.cameras.end());
+      REQUIRE(it->sigma);
+      INFO(camera.name << ": error " << camera.translation_mm << " mm, sigma "
+                       << it->sigma->position_mm << " mm");
+      CHECK(camera.translation_mm < 2.0 * it->sigma->position_mm);
+      CHECK(it->sigma->position_mm < 3.0 * camera.translation_mm);
+    }
 
     options.refine_intrinsics = kFocal | kPrincipalPoint;
     const CalibrationResult refined = Calibrate(factory, options);
