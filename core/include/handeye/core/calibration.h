@@ -159,7 +159,9 @@ struct ViewResult {
 };
 
 /// How well a pose is known (1σ), from the covariance of the solution scaled
-/// by the residuals actually seen.
+/// by the residuals actually seen; with the robot's error modelled, under the
+/// error its solved poses show; for a camera whose given intrinsics the check
+/// finds off, with the shift they cause added (see the warning).
 struct PoseUncertainty {
   /// sqrt of the trace of the position's 3×3 covariance, mm: the RMS of the
   /// position error over the three axes together.
@@ -279,7 +281,9 @@ struct SolverSummary {
   std::string termination;   ///< Ceres' termination type, or the method's status
   double cauchy_scale_px = 0;  ///< the robust loss scale used (0 for closed forms)
   int rounds = 0;  ///< solves run (each after excluding views off the previous one)
-  /// The robot pose error modelled (σ per axis), 0 when the poses were taken as exact.
+  /// The robot pose error modelled (σ per axis: the prior the solve weighs the
+  /// records with), 0 when the poses were taken as exact. The σ the solved
+  /// poses show, which the cameras' sigma assumes, is in the result's notes.
   double robot_sigma_mm = 0;
   double robot_sigma_deg = 0;
 };
