@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   CLI::App app{"handeye: coverage of the result's 1σ against the truth"};
   std::string cells = "small,medium,large", robot = "0/0,0.1/0.01,0.3/0.03", noise = "0.1,0.3";
   std::string source = "projected", image_size, intrinsics_off = "0/0";
-  int seeds = 6, poses = 20, threads = 0;
+  int seeds = 6, poses = 20, threads = 0, first_seed = 1001;
   bool given_robot_sigma = false;
   app.add_option("--cells", cells, "cells");
   app.add_option("--robot", robot, "robot pose error σ, MM/DEG per axis, comma-separated");
@@ -42,6 +42,8 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "images: render/detect threads (0 = all cores)");
   app.add_option("--seeds", seeds, "scenes per combination");
   app.add_option("--poses", poses, "robot poses per scene");
+  app.add_option("--first-seed", first_seed,
+                 "seed of the first scene of each combination (default 1001)");
   app.add_option(
       "--intrinsics-off", intrinsics_off,
       "images: the given intrinsics off by PCT % in focal length and PX in the principal point "
@@ -84,10 +86,10 @@ int main(int argc, char** argv) {
           }
           SigmaCoverage c;
           if (source == "projected") {
-            c = MeasureSigmaCoverage(options, noise, seeds, 1001, calibration);
+            c = MeasureSigmaCoverage(options, noise, seeds, first_seed, calibration);
           } else {
             for (int i = 0; i < seeds; ++i) {
-              options.seed = 1001 + i;
+              options.seed = first_seed + i;
               SyntheticScene scene =
                   MakeScene(options, std::make_shared<const CheckerboardTarget>(7, 4, 0.04));
               RenderOptions render;

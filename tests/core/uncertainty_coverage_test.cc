@@ -83,9 +83,10 @@ TEST_CASE("Leave-one-pose-out: held-out error and the spread of each camera over
   CHECK(spread[10] > spread[30]);
 }
 
+// Named "rendered": scripts/test-sanitizers leaves out the tests that render whole cells.
 TEST_CASE(
-    "Where the robot's error is modelled, sigma is the error the solved poses show, not the "
-    "prior's",
+    "On rendered cells where the robot's error is modelled, sigma is the error the solved poses "
+    "show",
     "[uncertainty]") {
   // The rule that sets the robot prior errs wide on purpose (each σ at least
   // the rotation's through the reach); the cameras' σ takes the robot's error
