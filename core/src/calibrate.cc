@@ -222,12 +222,6 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
         [&](double scale) {
           CalibrationOptions round = options;
           round.cauchy_scale_px = scale;
-          auto warm_start = [&](const internal::Refinement& r) {
-            for (size_t k = 0; k < r.T_cam_mount.size(); ++k)
-              if (r.T_cam_mount[k]) init.T_cam_mount[k] = r.T_cam_mount[k];
-            init.T_holder_target = r.T_holder_target[0];
-            if (!r.T_mount_holder.empty()) init.T_mount_holder = r.T_mount_holder;
-          };
           // The robot's pose error: as given, or estimated from the last
           // solution (the first round solves with exact poses first).
           if (options.robot_sigma_mm > 0) {
@@ -235,7 +229,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
                                          internal::DetectionSigmaPx(problem)};
           } else if (options.robot_sigma_mm < 0) {
             if (!solved_once) {
-              warm_start(refine(round, std::nullopt));
+              internal::WarmStart(refine(round, std::nullopt), &init);
               solved_once = true;
             }
             const internal::TargetPoses T_holder_target_now(dataset.cameras.size(), init.T_holder_target);
@@ -252,7 +246,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
               robot.reset();
           }
           internal::Refinement r = refine(round, robot);
-          warm_start(r);  // of the next round
+          internal::WarmStart(r, &init);  // of the next round
           return r;
         },
         &result.warnings);

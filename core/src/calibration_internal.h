@@ -2,6 +2,9 @@
 #pragma once
 // Internal pieces of the calibration engine, shared by its .cc files.
 
+#include <ceres/manifold.h>
+#include <ceres/product_manifold.h>
+
 #include <functional>
 #include <map>
 #include <optional>
@@ -20,6 +23,11 @@ using ResidualBlockId = internal::ResidualBlock*;
 }
 
 namespace handeye::internal {
+
+/// Ceres' manifold of a pose block `[qx qy qz qw tx ty tz]`: the quaternion's
+/// 3-dimensional tangent, then the translation.
+using PoseManifold =
+    ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>;
 
 /// One observation prepared for the solver.
 struct View {
@@ -201,6 +209,10 @@ struct Refinement {
 /// tangent-space covariance of the pose block T (PoseManifold).
 PoseUncertainty UncertaintyOf(const Eigen::Isometry3d& T, const Eigen::Matrix<double, 6, 6>& tangent_covariance,
                               bool invert);
+
+/// Starts the next joint solve from `solved`: its camera transforms (where it
+/// has them), its T_holder_target and, with robot pose blocks, their poses.
+void WarmStart(const Refinement& solved, Initialisation* init);
 
 /// What RefineJoint does with the problem it builds: solve it, or only
 /// compute the covariance of the given values (the solution).

@@ -36,8 +36,8 @@ bool DriftResult::AnyMoved() const {
   return false;
 }
 
-DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibration, const DriftOptions& options) {
-  using PoseManifold = ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>;
+DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibration,
+                       const DriftOptions& options) {
   std::string why;
   if (!options.Check(&why)) throw InputError("", "", "invalid check options: " + why);
   if (input.setup != calibration.setup)
@@ -80,7 +80,7 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
     problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
     ceres::Problem ceres_problem(problem_options);
     PoseParams T_cam_mount = ToPoseParams(cam.T_cam.inverse()), T_holder_target_params = ToPoseParams(T_holder_target);
-    ceres_problem.AddParameterBlock(T_cam_mount.data(), 7, new PoseManifold());
+    ceres_problem.AddParameterBlock(T_cam_mount.data(), 7, new internal::PoseManifold());
     ceres_problem.AddParameterBlock(T_holder_target_params.data(), 7);
     ceres_problem.SetParameterBlockConstant(T_holder_target_params.data());
     const double scale = std::max(1.0, 3.0 * internal::DetectionSigmaPx(problem));

@@ -139,8 +139,6 @@ double ViewDesignFactor(const ceres::Problem& problem, const std::vector<ceres::
 /// How far (mm) the camera centre of the T_cam_mount block `T` moves for the
 /// tangent step `step` of its pose manifold.
 double MovedMm(const PoseParams& T, const Eigen::Matrix<double, 6, 1>& step) {
-  using PoseManifold =
-      ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>;
   PoseParams moved;
   PoseManifold().Plus(T.data(), step.data(), moved.data());
   return 1000.0 * (FromPoseParams(T.data()).inverse().translation() -
@@ -248,7 +246,6 @@ std::vector<std::string> IntrinsicsWarnings(
     const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
     const TargetPoses& T_holder_target, double cauchy_scale_px, const std::vector<unsigned>& check,
     const std::optional<RobotPrior>& robot, std::map<size_t, Eigen::Matrix<double, 6, 1>>* shift) {
-  using PoseManifold = ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>;
   const Dataset& dataset = *problem.dataset;
   std::vector<std::string> warnings;
   for (size_t k = 0; k < dataset.cameras.size(); ++k) {

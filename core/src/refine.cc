@@ -23,8 +23,6 @@
 namespace handeye::internal {
 namespace {
 
-using PoseManifold = ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>;
-
 /// Pose blocks that Ceres optimises in place, with stable addresses.
 class PoseBlocks {
  public:
@@ -422,6 +420,13 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
     SolutionCovariance(&ceres_problem, T_cam_mount, T_holder_target, K_block, direct_blocks, robot,
                        robot_poses, options.threads, &out);
   return out;
+}
+
+void WarmStart(const Refinement& solved, Initialisation* init) {
+  for (size_t k = 0; k < solved.T_cam_mount.size(); ++k)
+    if (solved.T_cam_mount[k]) init->T_cam_mount[k] = solved.T_cam_mount[k];
+  init->T_holder_target = solved.T_holder_target[0];
+  if (!solved.T_mount_holder.empty()) init->T_mount_holder = solved.T_mount_holder;
 }
 
 Refinement RefinePerCamera(const Problem& problem,

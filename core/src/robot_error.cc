@@ -118,10 +118,7 @@ void SettleRobotSigma(const Problem& problem, const Initialisation& init,
     RobotPrior weights = settled;
     weights.sigma_m = settled.settled_sigma_m;
     weights.sigma_rad = settled.settled_sigma_rad;
-    for (size_t k = 0; k < solved.T_cam_mount.size(); ++k)
-      if (solved.T_cam_mount[k]) start.T_cam_mount[k] = solved.T_cam_mount[k];
-    start.T_holder_target = solved.T_holder_target[0];
-    start.T_mount_holder = solved.T_mount_holder;
+    WarmStart(solved, &start);
     solved = RefineJoint(problem, start, options, weights);
   }
   robot->settled_sigma_m = settled.settled_sigma_m;

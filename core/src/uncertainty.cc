@@ -21,7 +21,7 @@ namespace internal {
 // Jacobians with respect to the tangent are differentiated, not assumed.
 PoseUncertainty UncertaintyOf(const Eigen::Isometry3d& T, const Eigen::Matrix<double, 6, 6>& tangent_covariance,
                               bool invert) {
-  ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>> manifold;
+  PoseManifold manifold;
   const PoseParams T0 = ToPoseParams(T);
   const Eigen::Isometry3d P0 = invert ? T.inverse() : T;
   // d(position mm, rotation deg of P)/d(tangent of T), central differences.
@@ -56,12 +56,11 @@ PoseUncertainty UncertaintyOf(const Eigen::Isometry3d& T, const Eigen::Matrix<do
 
 PositionCovariance ComputePositionCovariance(const Dataset& dataset, const CalibrationResult& at,
                                              double noise_px) {
-  using PoseManifold = ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>;
   ceres::Problem::Options problem_options;
   problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
   PoseParams T_holder_target = ToPoseParams(at.T_target);
-  problem.AddParameterBlock(T_holder_target.data(), 7, new PoseManifold());
+  problem.AddParameterBlock(T_holder_target.data(), 7, new internal::PoseManifold());
   std::vector<PoseParams> T_cam_mount(dataset.cameras.size());
   std::vector<bool> has_views(dataset.cameras.size(), false);
   for (size_t k = 0; k < T_cam_mount.size(); ++k) {
@@ -77,7 +76,7 @@ PositionCovariance ComputePositionCovariance(const Dataset& dataset, const Calib
     const int j = dataset.PoseIndex(obs.pose_id);
     if (k < 0 || j < 0 || !at.cameras[k].calibrated) continue;
     if (!has_views[k]) {
-      problem.AddParameterBlock(T_cam_mount[k].data(), 7, new PoseManifold());
+      problem.AddParameterBlock(T_cam_mount[k].data(), 7, new internal::PoseManifold());
       has_views[k] = true;
     }
     const Eigen::Isometry3d T_mount_holder = FramesOf(dataset.setup).MountFromHolder(dataset.poses[j].T_base_ee);
