@@ -155,7 +155,6 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   std::map<size_t, IntrinsicsResult> refined_intrinsics;
   std::optional<internal::RobotPrior> robot_model;  // the joint solve's, when it modelled the robot's error
   std::vector<std::vector<int>> free_intrinsics;      // the joint solve's, by camera
-  std::map<size_t, PoseUncertainty> camera_sigma;
   std::map<size_t, Eigen::Matrix<double, 6, 6>> camera_covariance;  // tangent of T_cam_mount
   std::vector<CameraResult::CrossValidation> camera_validation;
   if (options.method == Method::kJoint) {
@@ -282,10 +281,8 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
         internal::RefineJoint(problem, init, final_options, robot, internal::JointStep::kCovariance);
     if (options.cross_validate) internal::CrossValidate(problem, init, final_options, robot, &camera_validation);
     for (size_t k = 0; k < num_cameras; ++k)
-      if (est.T_cam_mount[k] && covariance.T_cam_mount_covariance[k]) {
+      if (est.T_cam_mount[k] && covariance.T_cam_mount_covariance[k])
         camera_covariance[k] = *covariance.T_cam_mount_covariance[k];
-        camera_sigma[k] = internal::UncertaintyOf(*est.T_cam_mount[k], camera_covariance[k], true);
-      }
     if (covariance.T_holder_target_covariance)
       result.target_sigma =
           internal::UncertaintyOf(est.shared_T_holder_target, *covariance.T_holder_target_covariance, false);
@@ -420,7 +417,6 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   }
   FillResult(problem, est, &result);
   for (auto& [k, intrinsics] : refined_intrinsics) result.cameras[k].intrinsics = intrinsics;
-  for (auto& [k, sigma] : camera_sigma) result.cameras[k].sigma = sigma;
   for (size_t k = 0; k < camera_validation.size(); ++k)
     if (camera_validation[k].folds > 0) result.cameras[k].cross_validation = camera_validation[k];
   if (options.check_intrinsics) {
@@ -433,10 +429,10 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     // Intrinsics the views find off bias the camera, which no covariance of
     // the solve with them held holds: its σ takes the shift as a term of its own.
     for (const auto& [k, moved] : shift)
-      if (camera_covariance.count(k))
-        result.cameras[k].sigma = internal::UncertaintyOf(
-            *est.T_cam_mount[k], camera_covariance[k] + moved * moved.transpose(), true);
+      if (camera_covariance.count(k)) camera_covariance[k] += moved * moved.transpose();
   }
+  for (const auto& [k, covariance] : camera_covariance)
+    result.cameras[k].sigma = internal::UncertaintyOf(*est.T_cam_mount[k], covariance, true);
   const auto quality = internal::DiagnoseSolution(problem, est.T_cam_mount, T_holder_target, options, &result);
   result.warnings.insert(result.warnings.end(), quality.begin(), quality.end());
   result.options = options;
