@@ -133,23 +133,36 @@ struct RobotPoseBlock {
 /// B = JᵀΣJ with the prior residuals' variance scaled by D = (settled / prior σ)²,
 /// i.e. B = A − Σ_j J_jᵀ(I − D)J_j over the prior blocks j, and
 /// Cov_xy = [A⁻¹]_xy − Σ_j [A⁻¹]_xj M_j [A⁻¹]_jy with M_j = J_jᵀ(I − D)J_j.
-/// `C(a, b)` reads [A⁻¹]_ab in tangent space, `prior_jacobian` J_j; returns
-/// the correction Σ_j … for the block x (x = y).
-template <typename CovarianceBlock, typename PriorJacobian>
-Eigen::MatrixXd SandwichCorrection(const std::vector<RobotPoseBlock>& robot_poses,
-                                   const RobotPrior& robot, const CovarianceBlock& C,
-                                   const PriorJacobian& prior_jacobian, const double* x) {
+/// These are the M_j, J_j the prior's Jacobian in the pose block's tangent space.
+std::vector<Eigen::Matrix<double, 6, 6>> SandwichWeights(
+    const ceres::Problem& problem, const std::vector<RobotPoseBlock>& robot_poses,
+    const RobotPrior& robot) {
   Eigen::Matrix<double, 6, 1> keep;  // 1 − D per prior residual (rotation, then translation)
   const double rotation = robot.settled_sigma_rad / robot.sigma_rad,
                translation = robot.settled_sigma_m / robot.sigma_m;
   keep << Eigen::Vector3d::Constant(1.0 - rotation * rotation),
       Eigen::Vector3d::Constant(1.0 - translation * translation);
-  Eigen::MatrixXd sum;
+  std::vector<Eigen::Matrix<double, 6, 6>> M;
   for (const RobotPoseBlock& block : robot_poses) {
-    const Eigen::MatrixXd J = prior_jacobian(block);
-    const Eigen::MatrixXd M = J.transpose() * keep.asDiagonal() * J;
-    const Eigen::MatrixXd C_xj = C(x, block.pose);
-    const Eigen::MatrixXd term = C_xj * M * C_xj.transpose();
+    Eigen::Matrix<double, 6, 6, Eigen::RowMajor> J;
+    double* jacobians[] = {J.data()};
+    double cost;
+    Eigen::Matrix<double, 6, 1> residuals;
+    problem.EvaluateResidualBlock(block.prior, false, &cost, residuals.data(), jacobians);
+    M.push_back(J.transpose() * keep.asDiagonal() * J);
+  }
+  return M;
+}
+
+/// Σ_j [A⁻¹]_xj M_j [A⁻¹]_jx, with `C(a, b)` reading [A⁻¹]_ab in tangent space.
+template <typename CovarianceBlock>
+Eigen::MatrixXd SandwichCorrection(const std::vector<RobotPoseBlock>& robot_poses,
+                                   const std::vector<Eigen::Matrix<double, 6, 6>>& M,
+                                   const CovarianceBlock& C, const double* x) {
+  Eigen::MatrixXd sum;
+  for (size_t j = 0; j < robot_poses.size(); ++j) {
+    const Eigen::MatrixXd C_xj = C(x, robot_poses[j].pose);
+    const Eigen::MatrixXd term = C_xj * M[j] * C_xj.transpose();
     sum = sum.size() ? Eigen::MatrixXd(sum + term) : term;
   }
   return sum;
@@ -161,7 +174,7 @@ Eigen::MatrixXd SandwichCorrection(const std::vector<RobotPoseBlock>& robot_pose
 /// scale) and by the view design factor (an error the points of a view share,
 /// e.g. a robot pose error not modelled, counts once per view, not per point);
 /// with robot pose blocks whose settled σ differs from their prior's, the
-/// sandwich of SandwichCorrection. Fills `out`; leaves it empty when the
+/// sandwich of SandwichWeights. Fills `out`; leaves it empty when the
 /// Jacobian is rank deficient.
 void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_cam_mount,
                         double* T_holder_target, const std::vector<double*>& K,
@@ -196,15 +209,9 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
   ceres::Covariance covariance(covariance_options);
   const bool ok = covariance.Compute(pairs, problem);
 
-  // The prior's Jacobian (6 residuals) in the tangent space of the pose block.
-  auto prior_jacobian = [&](const RobotPoseBlock& block) {
-    Eigen::Matrix<double, 6, 6, Eigen::RowMajor> J;
-    double* jacobians[] = {J.data()};
-    double cost;
-    Eigen::Matrix<double, 6, 1> residuals;
-    problem->EvaluateResidualBlock(block.prior, false, &cost, residuals.data(), jacobians);
-    return Eigen::MatrixXd(J);
-  };
+  const std::vector<Eigen::Matrix<double, 6, 6>> M =
+      sandwich ? SandwichWeights(*problem, robot_poses, *robot)
+               : std::vector<Eigen::Matrix<double, 6, 6>>{};
   auto tangent_block = [&](const double* a, const double* b) {
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> C(
         problem->ParameterBlockTangentSize(a), problem->ParameterBlockTangentSize(b));
@@ -213,8 +220,7 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
   };
   auto pose_covariance = [&](const double* block) {
     Eigen::MatrixXd C = tangent_block(block, block);
-    if (sandwich)
-      C -= SandwichCorrection(robot_poses, *robot, tangent_block, prior_jacobian, block);
+    if (sandwich) C -= SandwichCorrection(robot_poses, M, tangent_block, block);
     return Eigen::Matrix<double, 6, 6>(C * variance_factor);
   };
   if (ok) {
@@ -236,8 +242,7 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
             Eigen::Matrix<double, kN, Eigen::Dynamic, Eigen::RowMajor>::Identity(
                 kN, problem->ParameterBlockTangentSize(K[k]));
         if (manifold) manifold->PlusJacobian(K[k], P.data());
-        C -= P * SandwichCorrection(robot_poses, *robot, tangent_block, prior_jacobian, K[k]) *
-             P.transpose();
+        C -= P * SandwichCorrection(robot_poses, M, tangent_block, K[k]) * P.transpose();
       }
     }
     for (int p = 0; p < kN; ++p)
