@@ -377,6 +377,7 @@ Initialisation InitialiseJoint(const Problem& full_problem) {
     }
   }
   std::ostringstream note;
+  note.precision(3);  // a note is read by a person: 0.0398 px, not 0.0397717
   note << "initialised from " << best_name << " (median view RMS " << best_score << " px, "
        << candidates.size() << " candidates)";
   best.notes.push_back(note.str());
