@@ -183,7 +183,7 @@ void ReadOptions(const JsonReader& r, CalibrationOptions* o) {
 
 }  // namespace
 
-void SaveResult(const CalibrationResult& result, const std::string& path) {
+std::string ResultJson(const CalibrationResult& result) {
   nlohmann::ordered_json root;
   root["format"] = "handeye-result/1";
   root["setup"] = SetupName(result.setup);
@@ -257,7 +257,11 @@ void SaveResult(const CalibrationResult& result, const std::string& path) {
   root["notes"] = result.notes;
   root["options"] = OptionsJson(result.options);
   root["provenance"] = {{"handeye_version", result.handeye_version}, {"input", result.input}};
-  WriteFileAtomically(path, DumpJson(root));
+  return DumpJson(root);
+}
+
+void SaveResult(const CalibrationResult& result, const std::string& path) {
+  WriteFileAtomically(path, ResultJson(result));
 }
 
 CalibrationResult LoadResult(const std::string& path) {

@@ -15,6 +15,10 @@ namespace handeye {
 /// was not calibrated has `"calibrated": false` and no transform.
 void SaveResult(const CalibrationResult& result, const std::string& path);
 
+/// The text SaveResult writes, for callers that keep it in memory (the
+/// Python module's `Result.to_json()`).
+std::string ResultJson(const CalibrationResult& result);
+
 /// Reads a result written by SaveResult. Throws InputError naming the file,
 /// the JSON path and what was expected.
 CalibrationResult LoadResult(const std::string& path);

@@ -1,0 +1,178 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// handeye.Result and handeye.CameraResult: a CalibrationResult with its
+// transforms as numpy arrays and the same JSON the CLI writes.
+#include "result.h"
+
+#include <pybind11/stl.h>
+
+#include <cstdio>
+
+#include "bindings.h"
+#include "convert.h"
+#include "handeye/core/calibration.h"
+#include "handeye/core/setup_frames.h"
+#include "handeye/io/result_json.h"
+
+namespace handeye::python {
+namespace {
+
+py::object SigmaDict(const std::optional<PoseUncertainty>& sigma) {
+  if (!sigma) return py::none();
+  py::dict d;
+  d["position_mm"] = sigma->position_mm;
+  d["rotation_deg"] = sigma->rotation_deg;
+  d["covariance"] = MatrixArray(sigma->covariance);
+  return std::move(d);
+}
+
+py::object IntrinsicsDict(const std::optional<IntrinsicsResult>& intrinsics) {
+  if (!intrinsics) return py::none();
+  py::dict d;
+  d["K"] = CameraMatrix(intrinsics->camera);
+  d["distortion"] = py::array_t<double>(py::cast(intrinsics->camera.Distortion()));
+  d["image_size"] = py::make_tuple(intrinsics->camera.width, intrinsics->camera.height);
+  d["sigma"] = py::array_t<double>(
+      py::cast(std::vector<double>(intrinsics->sigma.begin(), intrinsics->sigma.end())));
+  d["refined"] = intrinsics->refined;
+  d["undetermined"] = intrinsics->undetermined;
+  return std::move(d);
+}
+
+const CameraResult& CameraNamed(const CalibrationResult& r, const std::string& name) {
+  for (const CameraResult& c : r.cameras)
+    if (c.name == name) return c;
+  throw py::key_error("no camera '" + name + "' in the result");
+}
+
+py::dict TransformsOfCameras(const CalibrationResult& r) {
+  py::dict out;
+  for (const CameraResult& c : r.cameras)
+    if (c.calibrated) out[py::str(c.name)] = TransformArray(c.T_cam);
+  return out;
+}
+
+py::list Pairs(const CalibrationResult& r) {
+  py::list out;
+  for (const CameraPairResult& p : r.camera_pairs) {
+    py::dict d;
+    d["camera_k"] = p.camera_k;
+    d["camera_t"] = p.camera_t;
+    d["T_camk_camt"] = TransformArray(p.T_camk_camt);
+    d["shared_views"] = p.shared_views;
+    out.append(d);
+  }
+  return out;
+}
+
+// One part of the result file's content as Python values (the file is
+// formatted and parsed once per Result): the figures the file names are
+// handed out under its own names.
+py::object FilePart(const PyResult& r, const char* key) {
+  if (!r.file_content)
+    r.file_content = py::module_::import("json").attr("loads")(ResultJson(r.result));
+  return r.file_content[key];
+}
+
+std::string CameraRepr(const CameraResult& c) {
+  if (!c.calibrated) return "<handeye.CameraResult " + c.name + ": not calibrated>";
+  const Eigen::Vector3d t = 1000.0 * c.T_cam.translation();
+  char text[160];
+  std::snprintf(text, sizeof text,
+                "<handeye.CameraResult %s: at (%.2f, %.2f, %.2f) mm, rms %.3f px, %d views>",
+                c.name.c_str(), t.x(), t.y(), t.z(), c.rms_px, c.views);
+  return text;
+}
+
+}  // namespace
+
+void AddResult(py::module_& m) {
+  // CameraResult objects share their Result's storage (keep_alive via reference_internal).
+  py::class_<CameraResult>(m, "CameraResult", "One camera's calibration.")
+      .def_readonly("name", &CameraResult::name)
+      .def_readonly("calibrated", &CameraResult::calibrated)
+      .def_property_readonly(
+          "T_cam",
+          [](const CameraResult& c) {
+            return c.calibrated ? py::object(TransformArray(c.T_cam)) : py::none();
+          },
+          "4×4: T_base_cam (eye_to_hand) or T_ee_cam (eye_in_hand); None when not calibrated.")
+      .def_readonly("rms_px", &CameraResult::rms_px)
+      .def_readonly("max_px", &CameraResult::max_px)
+      .def_readonly("views", &CameraResult::views)
+      .def_readonly("views_rejected", &CameraResult::views_rejected)
+      .def_readonly("outliers", &CameraResult::outliers)
+      .def_property_readonly(
+          "sigma", [](const CameraResult& c) { return SigmaDict(c.sigma); },
+          "1σ: position_mm, rotation_deg and the 6×6 covariance (mm, deg); None when unknown.")
+      .def_property_readonly("intrinsics",
+                             [](const CameraResult& c) { return IntrinsicsDict(c.intrinsics); })
+      .def("__repr__", &CameraRepr);
+
+  py::class_<PyResult>(m, "Result", "A calibration result (handeye-result/1).")
+      .def_property_readonly("setup", [](const PyResult& r) { return SetupName(r.result.setup); })
+      .def_property_readonly("method",
+                             [](const PyResult& r) { return MethodName(r.result.method); })
+      .def_property_readonly(
+          "cameras",
+          [](py::object self) {
+            // Each element refers into this Result, which it keeps alive.
+            py::list out;
+            for (const CameraResult& c : self.cast<const PyResult&>().result.cameras)
+              out.append(py::cast(&c, py::return_value_policy::reference_internal, self));
+            return out;
+          },
+          "The cameras' results (CameraResult), in the dataset's order.")
+      .def(
+          "camera",
+          [](const PyResult& r, const std::string& name) { return &CameraNamed(r.result, name); },
+          py::arg("name"), py::return_value_policy::reference_internal)
+      .def_property_readonly(
+          "T_cam", [](const PyResult& r) { return TransformsOfCameras(r.result); },
+          "{camera name: 4×4 T_base_cam or T_ee_cam} of the calibrated cameras.")
+      .def_property_readonly(
+          "T_target", [](const PyResult& r) { return TransformArray(r.result.T_target); },
+          "4×4: T_ee_target (eye_to_hand) or T_base_target (eye_in_hand).")
+      .def_property_readonly("target_sigma",
+                             [](const PyResult& r) { return SigmaDict(r.result.target_sigma); })
+      .def_property_readonly("camera_pairs", [](const PyResult& r) { return Pairs(r.result); })
+      .def_property_readonly(
+          "metrics", [](const PyResult& r) { return FilePart(r, "metrics"); },
+          "The result file's `metrics` (rms_px, axzb_…).")
+      .def_property_readonly(
+          "solver", [](const PyResult& r) { return FilePart(r, "solver"); },
+          "The result file's `solver` (seconds, iterations, converged, cauchy_scale_px, …).")
+      .def_property_readonly(
+          "views", [](const PyResult& r) { return FilePart(r, "views"); },
+          "The result file's `views`: pose, camera, points, used, rms_px, … per view.")
+      .def_property_readonly(
+          "warnings", [](const PyResult& r) { return r.result.warnings; },
+          "What a user must see, as the CLI prints them.")
+      .def_property_readonly("notes", [](const PyResult& r) { return r.result.notes; })
+      .def(
+          "to_json", [](const PyResult& r) { return ResultJson(r.result); },
+          "The handeye-result/1 text `handeye calibrate -o` writes.")
+      .def(
+          "save", [](const PyResult& r, const std::string& path) { SaveResult(r.result, path); },
+          py::arg("path"), "Writes handeye-result/1 (atomically).")
+      .def("__repr__", [](const PyResult& r) {
+        int calibrated = 0;
+        for (const CameraResult& c : r.result.cameras) calibrated += c.calibrated ? 1 : 0;
+        char text[160];
+        std::snprintf(text, sizeof text,
+                      "<handeye.Result %s, %s: %d of %zu cameras, rms %.3f px, %zu warnings>",
+                      MethodName(r.result.method), SetupName(r.result.setup), calibrated,
+                      r.result.cameras.size(), r.result.metrics.rms_px, r.result.warnings.size());
+        return std::string(text);
+      });
+
+  m.def(
+      "load_result",
+      [](const std::string& path) {
+        PyResult out;
+        out.result = LoadResult(path);
+        return out;
+      },
+      py::arg("path"), "Reads a handeye-result/1 file.");
+}
+
+}  // namespace handeye::python
