@@ -51,7 +51,12 @@ TEST_CASE("check names the camera that was knocked and clears the others", "[dri
   CHECK_FALSE(quiet.AnyMoved());
   for (const CameraDrift& c : quiet.cameras) {
     INFO(c.name << " " << c.moved_mm << " ± " << c.sigma_mm << " mm " << c.moved_deg << " ± " << c.sigma_deg << " deg, " << c.views << " views");
-    CHECK(c.verdict == "ok");
+    // Within the tolerances: ok. Beyond one but within the check's noise (3
+    // views tell a camera to ≈ 0.7 mm, against a 1 mm tolerance): the check
+    // cannot tell, and says so rather than clearing the camera.
+    const bool within = c.moved_mm <= options.tolerance_mm && c.moved_deg <= options.tolerance_deg;
+    CHECK(c.verdict == (within ? "ok" : "not_assessed"));
+    if (!within) CHECK_THAT(c.reason, Catch::Matchers::Contains("within 3σ of the noise of the check"));
     // 3 views of 8 noisy poses tell a camera's pose to ≈ 0.5 mm, the
     // calibration to ≈ 0.7: an unmoved camera is within 3σ of both.
     CHECK(c.moved_mm < 3.0 * c.sigma_mm);
@@ -67,7 +72,7 @@ TEST_CASE("check names the camera that was knocked and clears the others", "[dri
       CHECK(c.moved_mm < 6.0);
       CHECK(c.moved_deg == Approx(0.2).margin(0.03));
     } else {
-      CHECK(c.verdict == "ok");
+      CHECK(c.verdict != "moved");
       CHECK(c.moved_mm < 3.0 * c.sigma_mm);
     }
   }

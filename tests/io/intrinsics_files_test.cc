@@ -228,7 +228,7 @@ TEST_CASE("OpenCV FileStorage: a matrix header that lies is refused before OpenC
   // Another one: a root that is not a mapping made OpenCV assert. The saved
   // input has NUL bytes, now refused before OpenCV parses it; a YAML list is
   // refused before OpenCV reads it too.
-  RequireFileError((std::filesystem::path(__FILE__).parent_path() / "fuzz_findings/opencv_root_not_a_map.yaml").string(),
+  RequireFileError((std::filesystem::path(HANDEYE_TEST_SOURCE_DIR "/io") / "fuzz_findings/opencv_root_not_a_map.yaml").string(),
                    IntrinsicsFileFormat::kOpenCv, "", "", "not a text file: a NUL byte at offset 8");
   test::WriteText(dir + "/list.yml", "%YAML:1.0\n- 1\n- 2\n");
   RequireFileError(dir + "/list.yml", IntrinsicsFileFormat::kOpenCv, "", "", "expected a mapping");
@@ -236,13 +236,13 @@ TEST_CASE("OpenCV FileStorage: a matrix header that lies is refused before OpenC
   // input fuzz/run saved, and the three lines that are enough.
   for (const char* name : {"intrinsics_opencv_length_error.yaml", "opencv_yaml_empty_key.yaml"}) {
     INFO(name);
-    RequireFileError((std::filesystem::path(__FILE__).parent_path() / "fuzz_findings" / name).string(),
+    RequireFileError((std::filesystem::path(HANDEYE_TEST_SOURCE_DIR "/io") / "fuzz_findings" / name).string(),
                      IntrinsicsFileFormat::kOpenCv, "", "", "not an OpenCV FileStorage file (YAML, XML or JSON)");
   }
   // OpenCV's XML parser read a null pointer when the text ended just after
   // an attribute's '=', also when a NUL byte ended it there.
   const auto finding_file = [](const char* name) {
-    return (std::filesystem::path(__FILE__).parent_path() / "fuzz_findings" / name).string();
+    return (std::filesystem::path(HANDEYE_TEST_SOURCE_DIR "/io") / "fuzz_findings" / name).string();
   };
   RequireFileError(finding_file("intrinsics_opencv_xml_segv.xml"), IntrinsicsFileFormat::kOpenCv, "", "",
                    "not a text file: a NUL byte at offset 14");
@@ -297,11 +297,11 @@ TEST_CASE("OpenCV FileStorage: a matrix header that lies is refused before OpenC
                                          "  dt: d\n  data: [0.1, -0.01, 0, 0]\n...\n\n# end\n");
   ReadIntrinsicsFile(dir + "/ends.yml", IntrinsicsFileFormat::kOpenCv, "");
   // And one for the Kalibr reader: yaml-cpp's LoadAll never returned.
-  RequireFileError((std::filesystem::path(__FILE__).parent_path() / "fuzz_findings/kalibr_yaml_no_progress.yaml").string(),
+  RequireFileError((std::filesystem::path(HANDEYE_TEST_SOURCE_DIR "/io") / "fuzz_findings/kalibr_yaml_no_progress.yaml").string(),
                    IntrinsicsFileFormat::kKalibr, "cam0", "", "not readable as YAML (the parser gets no further)");
   // The input fuzz/run saved, as it was.
   const std::string finding =
-      (std::filesystem::path(__FILE__).parent_path() / "fuzz_findings/intrinsics_opencv_huge_cols.yaml").string();
+      (std::filesystem::path(HANDEYE_TEST_SOURCE_DIR "/io") / "fuzz_findings/intrinsics_opencv_huge_cols.yaml").string();
   RequireFileError(finding, IntrinsicsFileFormat::kOpenCv, "", "/distortion_coefficients", "of at most 64 x 64");
 }
 

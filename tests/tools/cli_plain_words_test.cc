@@ -61,7 +61,7 @@ TEST_CASE("files given in the wrong order get the expected order", "[cli][plain]
   CHECK(test::RunHandeye("evaluate " + result + " " + truth, &out) == 0);
 }
 
-TEST_CASE("--version, and --threads within reason", "[cli][plain]") {
+TEST_CASE("handeye --version, and --threads within reason", "[cli][plain]") {
   std::string out;
   CHECK(test::RunHandeye("--version", &out) == 0);
   CHECK_THAT(out, Contains("handeye 1."));
