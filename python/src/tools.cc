@@ -3,6 +3,7 @@
 // subcommands (tools/detect.cc, check.cc, export.cc, simulate.cc).
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <filesystem>
 #include <tuple>
 
@@ -174,7 +175,9 @@ SceneOptions SceneOf(const SimulateCall& call) {
   }
   if (!call.image_size.is_none()) {
     const std::vector<double> size = FiniteVector(call.image_size, "image_size");
-    if (size.size() != 2) throw InputError("", "image_size", "expected (width, height)");
+    if (size.size() != 2 || size[0] != std::floor(size[0]) || size[1] != std::floor(size[1]) ||
+        size[0] < 1 || size[1] < 1 || size[0] > 1e5 || size[1] > 1e5)
+      throw InputError("", "image_size", "expected (width, height) in whole pixels");
     options.width = static_cast<int>(size[0]);
     options.height = static_cast<int>(size[1]);
   }
