@@ -2,10 +2,9 @@
 // `handeye calibrate DATASET|OBS -o RESULT.json [--method M] [--report DIR]`:
 // detects if the input has only images, initialises, solves and writes
 // handeye-result/1 (and the report, with --report).
-#include <cstdio>
-#include <filesystem>
-#include <iostream>
 #include <algorithm>
+#include <cstdio>
+#include <iostream>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -20,6 +19,7 @@
 #include "handeye/io/detection.h"
 #include "handeye/io/result_json.h"
 #include "handeye/report/report.h"
+#include "report_folder.h"
 
 namespace handeye::tools {
 namespace {
@@ -45,12 +45,21 @@ struct CalibrateArgs {
   std::string observations_out;  // --observations-out FILE
 };
 
-// Fails on an output whose folder does not exist before minutes of detection.
-void CheckWritable(const std::string& path, const std::string& flag) {
-  const std::filesystem::path out(path);
-  std::error_code ec;
-  if (!std::filesystem::is_directory(out.has_parent_path() ? out.parent_path() : ".", ec))
-    throw InputError(path, "", (flag.empty() ? "" : flag + ": ") + "cannot write: its folder does not exist");
+// The robot's σ is one model, position and rotation together: say so in the
+// flags' terms before the library's own check.
+void CheckRobotSigmas(const CalibrateArgs& args) {
+  const bool mm = args.robot_sigma_mm >= 0, deg = args.robot_sigma_deg >= 0;
+  if (mm != deg)
+    throw InputError(
+        "", "",
+        std::string(mm ? "--robot-sigma-mm" : "--robot-sigma-deg") +
+            " given alone: give --robot-sigma-mm and --robot-sigma-deg together (both 0: the "
+            "robot's poses are exact; neither: its error is estimated from the views)");
+  if (mm && (args.robot_sigma_mm == 0) != (args.robot_sigma_deg == 0))
+    throw InputError(
+        "", "",
+        "--robot-sigma-mm and --robot-sigma-deg: 0 means an exact robot, in position and rotation "
+        "together: give both 0, or both > 0");
 }
 
 void PrintSummary(const CalibrationResult& result) {
@@ -98,6 +107,7 @@ void RunCalibrate(const CalibrateArgs& args) {
   options.cross_terms = !args.no_cross_terms;
   options.compare_closed_form = !args.no_closed_form;
   options.reject_views = !args.keep_all_views;
+  CheckRobotSigmas(args);
   options.robot_sigma_mm = args.robot_sigma_mm;
   options.robot_sigma_deg = args.robot_sigma_deg;
   if (!args.refine_intrinsics.empty()) {
@@ -128,14 +138,19 @@ void RunCalibrate(const CalibrateArgs& args) {
   options.threads = args.threads > 0 ? args.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::string why;
   if (!options.Check(&why)) throw InputError("", "", "invalid option: " + why);
-  CheckWritable(args.output, "");
-  if (!args.observations_out.empty()) CheckWritable(args.observations_out, "--observations-out");
 
   LoadOptions load;
   load.reorthonormalise = args.reorthonormalise;
   std::vector<std::string> warnings;
   Dataset dataset = LoadDataset(args.input, load, &warnings);
   PrintWarnings(warnings);
+  // Before minutes of detection and solving: every output can be written and is no input.
+  std::vector<NamedPath> inputs = ImageInputs(dataset);
+  inputs.insert(inputs.end(), {{"INPUT", args.input}, {"--from", args.from}});
+  const std::vector<NamedPath> outputs = {{"-o", args.output},
+                                          {"--observations-out", args.observations_out}};
+  CheckFileOutputs(inputs, outputs);
+  CheckReportFolder(inputs, outputs, {"--report", args.report});
   if (from_setup && *from_setup != dataset.setup)
     throw InputError(args.from, "/setup",
                      std::string("the dataset's setup, ") + SetupName(dataset.setup) + ", for --from");
@@ -174,7 +189,7 @@ void RunCalibrate(const CalibrateArgs& args) {
     report.dataset_label = args.input;
     report.result_label = args.output;
     report.progress = ProgressLine("drawing overlays", args.quiet);
-    const ReportSummary written = WriteReport(dataset, result, args.report, report);
+    const ReportSummary written = WriteReportFolder(dataset, result, args.report, report);
     std::fprintf(stderr, "wrote %s (%zu warnings: see the report)\n", written.index_html.c_str(),
                  written.warnings.size());
   }

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // `handeye check RESULT DATASET|OBS [-o CHECK.json] [--tolerance-mm 1]
 // [--tolerance-deg 0.1]`: has a camera moved since calibration? Exit 0 when
-// none did, 4 when some did (SPEC §7).
+// none did, 4 when some did, 3 when none did but some could not be assessed
+// (SPEC §7).
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "argument_order.h"
 #include "cli_numbers.h"
 #include "commands.h"
 #include "handeye/core/drift.h"
@@ -15,6 +17,7 @@
 #include "handeye/io/detection.h"
 #include "handeye/io/json_util.h"
 #include "handeye/io/result_json.h"
+#include "output_paths.h"
 
 namespace handeye::tools {
 namespace {
@@ -34,8 +37,9 @@ void WriteCheck(const DriftResult& drift, const DriftOptions& options, const std
   for (const CameraDrift& c : drift.cameras) {
     nlohmann::ordered_json entry;
     entry["verdict"] = c.verdict;
+    if (!c.reason.empty()) entry["reason"] = c.reason;
     entry["views"] = c.views;
-    if (c.verdict != "not seen") {
+    if (c.estimated) {
       entry["moved_mm"] = c.moved_mm;
       entry["moved_deg"] = c.moved_deg;
       entry["sigma_mm"] = c.sigma_mm;
@@ -52,15 +56,68 @@ void WriteCheck(const DriftResult& drift, const DriftOptions& options, const std
   WriteFileAtomically(path, DumpJson(root));
 }
 
+void PrintTable(const DriftResult& drift) {
+  std::printf("%-12s %9s %9s %9s %9s %6s  %s\n", "camera", "moved mm", "± mm", "moved °", "± °",
+              "views", "verdict");
+  for (const CameraDrift& c : drift.cameras) {
+    const std::string verdict = c.verdict + (c.reason.empty() ? "" : " (" + c.reason + ")");
+    if (!c.estimated)
+      std::printf("%-12s %9s %9s %9s %9s %6d  %s\n", c.name.c_str(), "-", "-", "-", "-", c.views,
+                  verdict.c_str());
+    else
+      std::printf("%-12s %9.2f %9.2f %9.3f %9.3f %6d  %s\n", c.name.c_str(), c.moved_mm, c.sigma_mm,
+                  c.moved_deg, c.sigma_deg, c.views, verdict.c_str());
+  }
+}
+
+// The command that recalibrates the moved cameras, the ones found in place
+// held (none held: a plain calibration).
+std::string RecalibrateCommand(const DriftResult& drift, const CheckArgs& args) {
+  std::string kept;
+  for (const CameraDrift& c : drift.cameras)
+    if (c.verdict == "ok") kept += (kept.empty() ? "" : ",") + c.name;
+  std::string command = "handeye calibrate " + args.input + " -o NEW.json";
+  if (!kept.empty()) command += " --from " + args.result + " --keep-cameras " + kept;
+  return command;
+}
+
+// Exit 4 when a camera moved; else 3 when one could not be assessed (a script
+// must not read "cannot tell" as "nothing moved"); else 0.
+void ReportOutcome(const DriftResult& drift, const DriftOptions& options, const CheckArgs& args) {
+  std::string moved, unknown;
+  for (const CameraDrift& c : drift.cameras) {
+    if (c.verdict == "moved") moved += (moved.empty() ? "" : ", ") + c.name;
+    if (c.verdict == "not_assessed") unknown += (unknown.empty() ? "" : ", ") + c.name;
+  }
+  if (!unknown.empty())
+    std::fprintf(stderr, "not assessed (the new data cannot tell whether they moved): %s\n",
+                 unknown.c_str());
+  if (!moved.empty()) {
+    std::fprintf(stderr, "moved beyond %.3g mm / %.3g deg: %s; recalibrate %s with `%s`\n",
+                 options.tolerance_mm, options.tolerance_deg, moved.c_str(),
+                 moved.find(',') == std::string::npos ? "it" : "them",
+                 RecalibrateCommand(drift, args).c_str());
+    throw ExitStatus{4};
+  }
+  if (!unknown.empty()) throw ExitStatus{3};
+}
+
 void RunCheck(const CheckArgs& args) {
   DriftOptions options;
   options.tolerance_mm = args.tolerance_mm;
   options.tolerance_deg = args.tolerance_deg;
   options.threads = args.threads > 0 ? args.threads : 1;
+  CheckArgumentOrder(
+      "handeye check RESULT DATASET|OBS",
+      {{"RESULT", args.result, {"handeye-result/1"}},
+       {"DATASET|OBS", args.input, {"handeye-dataset/1", "handeye-observations/1"}}});
   const CalibrationResult calibration = LoadResult(args.result);
   std::vector<std::string> warnings;
   Dataset dataset = LoadDataset(args.input, {}, &warnings);
   PrintWarnings(warnings);
+  std::vector<NamedPath> inputs = ImageInputs(dataset);
+  inputs.insert(inputs.end(), {{"RESULT", args.result}, {"INPUT", args.input}});
+  CheckFileOutputs(inputs, {{"-o", args.output}});
   if (dataset.observations.empty()) {
     DetectOptions detect;
     detect.threads = args.threads;
@@ -74,35 +131,19 @@ void RunCheck(const CheckArgs& args) {
     throw e.file().empty() ? e.WithFile(args.input) : e;
   }
   PrintWarnings(drift.warnings);
-  std::printf("%-12s %9s %9s %9s %9s %6s  %s\n", "camera", "moved mm", "± mm", "moved °", "± °", "views", "verdict");
-  for (const CameraDrift& c : drift.cameras) {
-    if (c.verdict == "not seen")
-      std::printf("%-12s %9s %9s %9s %9s %6d  %s\n", c.name.c_str(), "-", "-", "-", "-", c.views, c.verdict.c_str());
-    else
-      std::printf("%-12s %9.2f %9.2f %9.3f %9.3f %6d  %s\n", c.name.c_str(), c.moved_mm, c.sigma_mm, c.moved_deg,
-                  c.sigma_deg, c.views, c.verdict.c_str());
-  }
+  PrintTable(drift);
   if (!args.output.empty()) {
     WriteCheck(drift, options, args.output);
     std::fprintf(stderr, "wrote %s\n", args.output.c_str());
   }
-  if (drift.AnyMoved()) {
-    std::string moved, kept;
-    for (const CameraDrift& c : drift.cameras) {
-      std::string& list = c.verdict == "moved" ? moved : kept;
-      if (c.verdict != "not seen") list += (list.empty() ? "" : ",") + c.name;
-    }
-    std::fprintf(stderr, "moved beyond %.3g mm / %.3g deg: %s; recalibrate %s with `handeye calibrate DATASET -o "
-                 "NEW.json --from %s --keep-cameras %s`\n",
-                 options.tolerance_mm, options.tolerance_deg, moved.c_str(),
-                 moved.find(',') == std::string::npos ? "it" : "them", args.result.c_str(), kept.c_str());
-    throw ExitStatus{4};
-  }
+  ReportOutcome(drift, options, args);
 }
 
 void RegisterCheck(CLI::App& app) {
   auto args = std::make_shared<CheckArgs>();
-  CLI::App* cmd = app.add_subcommand("check", "has a camera moved since calibration? (exit 4 when one did)");
+  CLI::App* cmd = app.add_subcommand("check",
+                                     "has a camera moved since calibration? (exit 4 when one did, "
+                                     "3 when one could not be assessed)");
   cmd->add_option("RESULT", args->result, "the calibration (handeye-result/1)")->required();
   cmd->add_option("INPUT", args->input, "new poses with images (handeye-dataset/1) or observations")->required();
   cmd->add_option("-o,--output", args->output, "write handeye-check/1 here");

@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "cli_numbers.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <thread>
 
 namespace handeye::tools {
 namespace {
@@ -64,7 +66,14 @@ CLI::Validator NumberIn(double min_value, double max_value, bool exclusive_min,
 }
 
 CLI::Validator ThreadCount() {
-  return IntegerIn(0, std::numeric_limits<int>::max(), "0 (all cores) or a positive count");
+  // Each thread holds an image or a solver's workspace: far more threads
+  // than cores only cost memory (100000 threads: 844 MB instead of 240).
+  const long long cores = std::max(1u, std::thread::hardware_concurrency());
+  const long long most = std::min<long long>(kMaxThreads, kMaxThreadsPerCore * cores);
+  return IntegerIn(0, most,
+                   "0 (all cores) or a positive count up to " + std::to_string(most) + " (" +
+                       std::to_string(kMaxThreadsPerCore) + " per core, at most " +
+                       std::to_string(kMaxThreads) + ")");
 }
 
 CLI::Validator PositiveNumber(const std::string& expected) {

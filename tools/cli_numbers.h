@@ -24,7 +24,12 @@ CLI::Validator UnsignedInteger(const std::string& expected);
 CLI::Validator NumberIn(double min_value, double max_value, bool exclusive_min,
                         const std::string& expected);
 
-/// The usual ones: --threads (0 = all cores) and a finite positive number.
+/// --threads: at most this many per core, and this many in all.
+constexpr long long kMaxThreadsPerCore = 64;
+constexpr long long kMaxThreads = 1024;
+
+/// The usual ones: --threads (0 = all cores, at most kMaxThreadsPerCore per
+/// core and kMaxThreads) and a finite positive number.
 CLI::Validator ThreadCount();
 CLI::Validator PositiveNumber(const std::string& expected);
 CLI::Validator NonNegativeNumber(const std::string& expected);

@@ -39,6 +39,11 @@ struct ExitStatus {
   int code = 0;
 };
 
+/// Makes SIGINT, SIGTERM and SIGHUP remove the temporary files and folders
+/// in flight (io/atomic_file.h) before the program ends with that signal.
+/// Call first in main(), before any thread starts.
+void RemoveTemporariesOnInterrupt();
+
 /// Prints each warning on stderr as "warning: ...".
 void PrintWarnings(const std::vector<std::string>& warnings);
 

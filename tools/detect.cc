@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // `handeye detect DATASET -o OBS.json`: runs the target's detector on every
 // image and writes handeye-observations/1 (SPEC §5, §7).
-#include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -11,6 +10,7 @@
 #include "handeye/core/error.h"
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/detection.h"
+#include "output_paths.h"
 
 namespace handeye::tools {
 namespace {
@@ -24,19 +24,15 @@ struct DetectArgs {
 };
 
 void RunDetect(const DetectArgs& args) {
-  // Fail on an unwritable output before spending minutes on detection.
-  const std::filesystem::path out(args.output);
-  const std::filesystem::path out_folder = out.has_parent_path() ? out.parent_path() : ".";
-  std::error_code ec;
-  if (!std::filesystem::is_directory(out_folder, ec))
-    throw InputError(args.output, "",
-                     "cannot write: folder '" + out_folder.string() + "' does not exist");
-
   LoadOptions load;
   load.reorthonormalise = args.reorthonormalise;
   std::vector<std::string> warnings;
   Dataset dataset = LoadDataset(args.dataset, load, &warnings);
   PrintWarnings(warnings);
+  // Before minutes of detection: the output can be written and is no input.
+  std::vector<NamedPath> inputs = ImageInputs(dataset);
+  inputs.push_back({"DATASET", args.dataset});
+  CheckFileOutputs(inputs, {{"-o", args.output}});
 
   std::map<std::string, int> images_per_camera;
   for (const auto& pose : dataset.poses)

@@ -6,6 +6,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "argument_order.h"
 #include "commands.h"
 #include "handeye/core/error.h"
 #include "handeye/core/evaluation.h"
@@ -23,6 +24,10 @@ struct EvaluateArgs {
 };
 
 void RunEvaluate(const EvaluateArgs& args) {
+  CheckArgumentOrder(
+      "handeye evaluate RESULT GROUND_TRUTH",
+      {{"RESULT", args.result, {"handeye-result/1"}},
+       {"GROUND_TRUTH", args.truth, {"handeye-ground-truth/1", "handeye-dataset/1"}}});
   const CalibrationResult result = LoadResult(args.result);
   const GroundTruth truth = LoadGroundTruth(args.truth);
   Evaluation eval;

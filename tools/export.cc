@@ -2,6 +2,8 @@
 // `handeye export RESULT --to FORMAT -o FILE`: the calibrated cameras (and the
 // target) as static transforms for ROS 2 launch, URDF, tf_static YAML or
 // OpenCV YAML (io/export.h describes the frames and formats).
+#include "handeye/io/export.h"
+
 #include <iostream>
 #include <map>
 #include <memory>
@@ -11,8 +13,8 @@
 #include "commands.h"
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
-#include "handeye/io/export.h"
 #include "handeye/io/result_json.h"
+#include "output_paths.h"
 
 namespace handeye::tools {
 namespace {
@@ -78,6 +80,7 @@ void RunExport(const ExportArgs& args) {
   std::string why;
   if (!frames.Check(&why)) throw InputError("", "", "invalid frame option: " + why);
   const CalibrationResult result = LoadResult(args.result);
+  CheckFileOutputs({{"RESULT", args.result}}, {{"-o", args.output}});
   CheckCameraFramesKnown(frames, result, args.result);
   std::vector<std::string> warnings;
   try {

@@ -10,6 +10,7 @@
 #include "handeye/core/error.h"
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/metric_import.h"
+#include "output_paths.h"
 
 namespace handeye::tools {
 namespace {
@@ -19,7 +20,25 @@ struct ImportMetricArgs {
   std::string output;
 };
 
+// The files import-metric reads (SPEC §8) are all inside FOLDER: an output
+// there may be a new file, never one that exists.
+std::vector<NamedPath> FilesIn(const std::string& folder) {
+  std::vector<NamedPath> files;
+  std::error_code ec;
+  for (auto it = std::filesystem::recursive_directory_iterator(folder, ec);
+       !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec))
+    if (it->is_regular_file(ec)) files.push_back({"FOLDER's file", it->path().string()});
+  return files;
+}
+
+std::string TruthPathBeside(const std::string& output) {
+  return (std::filesystem::path(output).parent_path() / "ground_truth.json").string();
+}
+
 void RunImportMetric(const ImportMetricArgs& args) {
+  CheckFileOutputs(
+      FilesIn(args.folder),
+      {{"-o", args.output}, {"ground_truth.json beside -o", TruthPathBeside(args.output)}});
   const MetricImport imported = ImportMetricFolder(args.folder);
   PrintWarnings(imported.dataset.target->Warnings());
   PrintWarnings(imported.warnings);
@@ -31,8 +50,7 @@ void RunImportMetric(const ImportMetricArgs& args) {
             << imported.dataset.poses.size() << " poses, " << images << " images, setup "
             << SetupName(imported.dataset.setup) << "\n";
   if (imported.truth) {
-    const std::filesystem::path out(args.output);
-    const std::string truth_path = (out.parent_path() / "ground_truth.json").string();
+    const std::string truth_path = TruthPathBeside(args.output);
     SaveGroundTruth(*imported.truth, truth_path);
     std::cerr << "wrote " << truth_path << " (camera poses; the target pose is not in GT/)\n";
   }

@@ -17,6 +17,7 @@
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/json_util.h"
 #include "handeye/io/pose_formats.h"
+#include "output_paths.h"
 
 namespace handeye::tools {
 namespace {
@@ -61,6 +62,8 @@ std::string Rebase(const std::string& path, const std::string& from_file, const 
 void RunImportPoses(const ImportPosesArgs& args) {
   if (args.unit != "m" && args.unit != "mm")
     throw InputError("", "", "--translation-unit: expected m or mm, got '" + args.unit + "'");
+  CheckFileOutputs({{"POSES", args.csv}, {"--template", args.template_path}},
+                   {{"-o", args.output}});
   const std::vector<PoseRow> rows =
       ReadPoseCsv(args.csv, args.unit == "mm" ? LengthUnit::kMillimetre : LengthUnit::kMetre, args.reorthonormalise);
 

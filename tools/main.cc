@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // handeye: multi-camera hand-eye calibration. Exit codes (SPEC §7):
-// 0 success, 2 bad input, 3 the calibration could not be solved.
+// 0 success, 2 bad input, 3 the calibration could not be solved (or `check`
+// could not tell), 4 `check` found a camera that moved.
 #include <unistd.h>
 
 #include <algorithm>
@@ -90,16 +91,20 @@ void PrintWarnings(const std::vector<std::string>& warnings) {
 }  // namespace handeye::tools
 
 int main(int argc, char** argv) {
+  handeye::tools::RemoveTemporariesOnInterrupt();
   // Detection and the report go through thousands of multi-MB images.
   handeye::ReuseFreedImageMemory();
   CLI::App app{"handeye: calibrates a network of cameras against an industrial robot"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", "handeye " HANDEYE_VERSION);
   handeye::tools::AddRecordedSubcommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);

@@ -8,12 +8,14 @@
 #include <iostream>
 #include <memory>
 
+#include "argument_order.h"
 #include "cli_numbers.h"
 #include "commands.h"
 #include "handeye/core/error.h"
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/detection.h"
 #include "handeye/io/result_json.h"
+#include "report_folder.h"
 
 namespace handeye::tools {
 namespace {
@@ -30,12 +32,20 @@ struct ReportArgs {
 };
 
 void RunReport(const ReportArgs& args) {
+  CheckArgumentOrder("handeye report DATASET RESULT -o DIR",
+                     {{"DATASET", args.dataset, {"handeye-dataset/1", "handeye-observations/1"}},
+                      {"RESULT", args.result, {"handeye-result/1"}}});
   LoadOptions load;
   load.reorthonormalise = args.reorthonormalise;
   std::vector<std::string> warnings;
   Dataset dataset = LoadDataset(args.dataset, load, &warnings);
   PrintWarnings(warnings);
   const CalibrationResult result = LoadResult(args.result);
+  std::vector<NamedPath> inputs = ImageInputs(dataset);
+  inputs.insert(
+      inputs.end(),
+      {{"DATASET", args.dataset}, {"RESULT", args.result}, {"--observations", args.observations}});
+  CheckReportFolder(inputs, {}, {"-o", args.output});
 
   // Where the detected points come from: an observations file given beside
   // the dataset (its images are still drawn on), the dataset's own, or a
@@ -66,7 +76,7 @@ void RunReport(const ReportArgs& args) {
   options.progress = ProgressLine("drawing overlays", args.quiet);
   ReportSummary summary;
   try {
-    summary = WriteReport(dataset, result, args.output, options);
+    summary = WriteReportFolder(dataset, result, args.output, options);
   } catch (const InputError& e) {
     if (!e.file().empty()) throw;
     // The model names the JSON path; observations come from the points file,

@@ -14,6 +14,7 @@
 #include "handeye/core/error.h"
 #include "handeye/sim/simulation.h"
 #include "handeye/sim/synthetic.h"
+#include "output_paths.h"
 #include "target_options.h"
 
 namespace handeye::tools {
@@ -131,6 +132,10 @@ void RunSimulate(const SimulateArgs& args) {
   fs::create_directories(args.outdir, ec);
   if (!fs::is_directory(args.outdir, ec))
     throw InputError(args.outdir, "", "cannot create the output folder");
+  CheckFileOutputs(
+      {{"--target-json", args.target.target_json}},
+      {{"dataset.json in OUTDIR", (fs::path(args.outdir) / "dataset.json").string()},
+       {"ground_truth.json in OUTDIR", (fs::path(args.outdir) / "ground_truth.json").string()}});
 
   SyntheticScene scene = MakeScene(scene_options, target);
   WriteSimulation(&scene, render, args.outdir, args.threads, ProgressLine("rendering", args.quiet));

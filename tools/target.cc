@@ -20,6 +20,7 @@
 #include "handeye/core/error.h"
 #include "handeye/io/atomic_file.h"
 #include "handeye/io/json_util.h"
+#include "output_paths.h"
 #include "target_options.h"
 
 namespace handeye::tools {
@@ -112,11 +113,9 @@ void RunTarget(const TargetArgs& args) {
     throw InputError("", "--dpi", "expected a resolution between 10 and 2400 dots per inch");
   const fs::path out(args.output);
   if (out.extension() != ".png") throw InputError(args.output, "", "expected a .png file name");
-  const fs::path folder = out.has_parent_path() ? out.parent_path() : ".";
-  std::error_code ec;
-  if (!fs::is_directory(folder, ec))
-    throw InputError(args.output, "",
-                     "cannot write: folder '" + folder.string() + "' does not exist");
+  CheckFileOutputs({{"--target-json", args.target.target_json}},
+                   {{"-o", args.output},
+                    {"the .json beside -o", fs::path(out).replace_extension(".json").string()}});
 
   const auto target = MakeTargetFromOptions(args.target, false);
   PrintWarnings(target->Warnings());

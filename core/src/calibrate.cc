@@ -20,6 +20,27 @@ namespace {
 using internal::Problem;
 using internal::View;
 
+// Why a camera's (camera < 0: every camera's) detected views were unusable,
+// for the message that says so: when most of them fit no plane pose (PnP
+// through the given intrinsics), the intrinsics or the distortion are the
+// likely culprit, not the robot or the target.
+std::string NoPlanePoseHint(const Problem& problem, int camera) {
+  // SolvePnpAnySide's reason (calibration_problem.cc).
+  static const std::string kNoPlanePose = "the detected points fit no plane pose";
+  int views = 0, no_pose = 0;
+  for (const View& view : problem.views) {
+    if (camera >= 0 && view.camera != camera) continue;
+    ++views;
+    no_pose += view.rejected_because.rfind(kNoPlanePose, 0) == 0 ? 1 : 0;
+  }
+  if (no_pose == 0 || 2 * no_pose < views) return "";
+  return " (" + std::to_string(no_pose) + " of " + std::to_string(views) +
+         " detected views fit no plane pose through " +
+         (camera >= 0 ? "the camera's" : "their cameras'") +
+         " intrinsics and distortion: these look wrong; check fx, fy, cx, cy and the distortion "
+         "coefficients, or leave the intrinsics out to estimate them)";
+}
+
 // The estimate: each camera's T_cam_mount and the T_holder_target it uses.
 struct Estimate {
   std::vector<std::optional<Eigen::Isometry3d>> T_cam_mount;
@@ -84,8 +105,13 @@ void FillResult(const Problem& problem, const Estimate& est, CalibrationResult* 
     if (cam.calibrated) {
       cam.T_cam = est.T_cam_mount[k]->inverse();
       if (est.per_camera_target) cam.own_T_target = est.T_holder_target[k];
-    } else if (cam.views == 0) {
+    } else if (cam.views == 0 && cam.views_rejected == 0) {
       result->warnings.push_back("camera '" + cam.name + "' never saw the target: not calibrated");
+    } else if (cam.views == 0) {
+      result->warnings.push_back(
+          "camera '" + cam.name + "': the target was detected in " +
+          std::to_string(cam.views_rejected) + " views, but none was usable" +
+          NoPlanePoseHint(problem, static_cast<int>(k)) + ": not calibrated");
     }
     result->cameras.push_back(cam);
   }
@@ -146,8 +172,8 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   for (const View& view : problem.views) used_views += view.used ? 1 : 0;
   if (used_views < 3)
     throw SolveError("too few views: " + std::to_string(used_views) +
-                     " usable views of the target; take at least 3 (better 10 or more) robot poses "
-                     "with the target in view");
+                     " usable views of the target" + NoPlanePoseHint(problem, -1) +
+                     "; take at least 3 (better 10 or more) robot poses with the target in view");
   internal::CheckMotionDiversity(problem);
 
   Estimate est;
@@ -372,12 +398,15 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     result.solver.converged = true;
     result.solver.termination = "CLOSED_FORM";
   }
-  if (!result.solver.converged)
-    result.warnings.push_back(
-        "the solver stopped at the iteration limit (" + std::to_string(options.max_iterations) +
-        " iterations) while the estimate was still moving by more than " +
-        std::to_string(options.step_tolerance_mm) + " mm / " + std::to_string(options.step_tolerance_deg) +
-        " deg per iteration; the result is written but may not be final");
+  if (!result.solver.converged) {
+    std::ostringstream warning;
+    warning.precision(3);
+    warning << "the solver stopped at the iteration limit (" << options.max_iterations
+            << " iterations) while the estimate was still moving by more than "
+            << options.step_tolerance_mm << " mm / " << options.step_tolerance_deg
+            << " deg per iteration; the result is written but may not be final";
+    result.warnings.push_back(warning.str());
+  }
   internal::TargetPoses T_holder_target(dataset.cameras.size(), est.shared_T_holder_target);
   if (est.per_camera_target) T_holder_target = est.T_holder_target;
   internal::ExplainInconsistentViews(&problem, est.T_cam_mount, T_holder_target);

@@ -140,10 +140,21 @@ std::optional<Eigen::Isometry3d> TargetGivenCamera(const Problem& problem, int c
 std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> ClosedFormHandEye(
     const Problem& problem, int camera, Method method, std::string* why);
 
-/// The better (median view RMS of the camera) of OpenCV's Park and Tsai
-/// closed forms on one camera: the initialisation of the reprojection solves,
-/// which must not print (ViSP does). `*chosen` names the method kept; nullopt
-/// with the reason in *why when neither solves.
+/// One closed-form solution of one camera: the method's name, T_cam_mount, T_holder_target.
+struct NamedClosedForm {
+  std::string method;
+  Eigen::Isometry3d T_cam_mount;
+  Eigen::Isometry3d T_holder_target;
+};
+
+/// OpenCV's Park and Tsai and ViSP's closed forms on one camera, those that
+/// solve: the initialisation candidates of the reprojection solves, which must
+/// not print (ViSP's prints are dropped without touching fd 1). Empty with the
+/// reason in *why when none solves.
+std::vector<NamedClosedForm> SilentClosedForms(const Problem& problem, int camera, std::string* why);
+
+/// The best (median view RMS of the camera) of SilentClosedForms on one camera.
+/// `*chosen` names the method kept; nullopt with the reason in *why when none solves.
 std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> SilentClosedFormHandEye(
     const Problem& problem, int camera, std::string* chosen, std::string* why);
 

@@ -99,6 +99,10 @@ bool CalibrationOptions::Check(std::string* why) const {
   for (double v : {warn.min_rotation_spread_deg, warn.min_axis_spread_deg, warn.max_camera_rms_px,
                    warn.max_closed_form_disagreement_px})
     if (!std::isfinite(v) || v < 0) return fail("warning thresholds must be finite and >= 0");
+  if (cross_validate && method != Method::kJoint)
+    return fail(
+        "--cross-validate: the held-out validation runs with the joint method only (--method "
+        "joint)");
   if (!fixed_cameras.empty() && method != Method::kJoint)
     return fail("cameras are held at given poses by the joint method only (--method joint)");
   return true;

@@ -7,11 +7,9 @@
 
 #include <Eigen/SVD>
 #include <opencv2/calib3d.hpp>
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <cstdio>
 #include <iostream>
+#include <streambuf>
 #include <limits>
 #include <mutex>
 #include <sstream>
@@ -65,36 +63,46 @@ std::optional<Eigen::Isometry3d> FromVisp(const vpHomogeneousMatrix& V) {
 }
 
 // ViSP 3.5 has one public hand-eye entry point, vpHandEyeCalibration::calibrate,
-// and it always prints its residuals (calibrationVerifrMo writes to std::cout).
-// A library must not write to stdout, so only `--method visp` calls ViSP, and
-// for that call file descriptor 1 points at /dev/null. Descriptors are
-// process-wide: the lock serialises every redirect so that each one restores
-// the descriptor the process had, never another call's /dev/null. Whatever
-// another thread writes to stdout meanwhile is lost (documented on kVisp).
-std::mutex& StdoutRedirectMutex() {
+// and it always prints: printf for its headings, std::cout for its residuals
+// (calibrationVerifrMo). A library must not write to stdout, and must not
+// touch the process's file descriptors either (another thread, a child
+// process or an embedding program such as Python may own fd 1). So for the
+// call both of the process's C++ and C stdout streams point at a sink that
+// drops everything: std::cout gets another buffer, and glibc's `stdout`
+// (an ordinary variable there, which printf reads at each call) another
+// FILE. The lock serialises the swaps so each restores what the process had.
+// Whatever another thread prints to std::cout or stdout meanwhile is lost
+// (documented on kVisp); writes straight to fd 1 are not affected.
+std::mutex& StdoutSwapMutex() {
   static std::mutex mutex;
   return mutex;
 }
 
+class NullBuffer : public std::streambuf {
+ protected:
+  int_type overflow(int_type c) override { return traits_type::not_eof(c); }
+  std::streamsize xsputn(const char*, std::streamsize n) override { return n; }
+};
+
+ssize_t DropWrite(void*, const char*, size_t size) { return static_cast<ssize_t>(size); }
+
 class SilencedStdout {
  public:
-  SilencedStdout() : lock_(StdoutRedirectMutex()) {
-    std::fflush(stdout);
-    std::cout.flush();
-    saved_ = dup(STDOUT_FILENO);
-    if (saved_ < 0) return;  // fd 1 is not open: nothing to silence or restore
-    const int null_fd = open("/dev/null", O_WRONLY | O_CLOEXEC);
-    if (null_fd >= 0) {
-      dup2(null_fd, STDOUT_FILENO);
-      close(null_fd);
+  SilencedStdout() : lock_(StdoutSwapMutex()) {
+    saved_buffer_ = std::cout.rdbuf(&null_buffer_);
+    cookie_io_functions_t drop{};
+    drop.write = DropWrite;
+    sink_ = fopencookie(nullptr, "w", drop);
+    if (sink_ != nullptr) {
+      saved_stdout_ = stdout;
+      stdout = sink_;
     }
   }
   ~SilencedStdout() {
-    std::cout.flush();
-    std::fflush(stdout);
-    if (saved_ >= 0) {
-      dup2(saved_, STDOUT_FILENO);
-      close(saved_);
+    std::cout.rdbuf(saved_buffer_);
+    if (sink_ != nullptr) {
+      stdout = saved_stdout_;
+      std::fclose(sink_);
     }
   }
   SilencedStdout(const SilencedStdout&) = delete;
@@ -102,7 +110,10 @@ class SilencedStdout {
 
  private:
   std::lock_guard<std::mutex> lock_;
-  int saved_ = -1;
+  NullBuffer null_buffer_;
+  std::streambuf* saved_buffer_ = nullptr;
+  FILE* sink_ = nullptr;
+  FILE* saved_stdout_ = nullptr;
 };
 
 // ViSP solves rMe[j] · eMc · cMo[j] = const. eye_in_hand is its native case
@@ -234,27 +245,35 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> ClosedFormHandEye
   }
 }
 
+std::vector<NamedClosedForm> SilentClosedForms(const Problem& problem, int camera, std::string* why) {
+  // Park (rotation on the Lie group), Tsai (rotation axes) and ViSP (Tsai's
+  // rotation refined by virtual visual servoing, the paper's initialisation)
+  // fail in different ways on poor motion sets. None of them prints (ViSP's
+  // output is dropped by SilencedStdout).
+  std::vector<NamedClosedForm> solved;
+  for (const Method method : {Method::kPark, Method::kTsai, Method::kVisp}) {
+    std::string failed;
+    if (auto one = ClosedFormHandEye(problem, camera, method, &failed))
+      solved.push_back({MethodName(method), one->first, one->second});
+    else if (solved.empty())
+      *why = failed;
+  }
+  return solved;
+}
+
 std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> SilentClosedFormHandEye(
     const Problem& problem, int camera, std::string* chosen, std::string* why) {
-  // Park (rotation on the Lie group) and Tsai (rotation axes) fail in
-  // different ways on poor motion sets; keep the one whose chain explains
-  // this camera's views best. Both are OpenCV's and print nothing.
+  // Keep the closed form whose chain explains this camera's views best.
   std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> best;
   double best_score = std::numeric_limits<double>::infinity();
   std::vector<std::optional<Eigen::Isometry3d>> T_cam_mount(problem.camera_views.size());
-  for (const Method method : {Method::kPark, Method::kTsai}) {
-    std::string failed;
-    const auto solved = ClosedFormHandEye(problem, camera, method, &failed);
-    if (!solved) {
-      if (!best) *why = failed;
-      continue;
-    }
-    T_cam_mount[camera] = solved->first;
-    const double score = MedianViewRms(problem, T_cam_mount, solved->second);
+  for (const NamedClosedForm& candidate : SilentClosedForms(problem, camera, why)) {
+    T_cam_mount[camera] = candidate.T_cam_mount;
+    const double score = MedianViewRms(problem, T_cam_mount, candidate.T_holder_target);
     if (!best || score < best_score) {
-      best = solved;
+      best = std::make_pair(candidate.T_cam_mount, candidate.T_holder_target);
       best_score = score;
-      *chosen = MethodName(method);
+      *chosen = candidate.method;
     }
   }
   return best;
@@ -325,14 +344,15 @@ Initialisation InitialiseJoint(const Problem& full_problem) {
   const size_t num_cameras = problem.camera_views.size();
   // Candidates for the shared T_holder_target: a closed form per camera where a camera has
   // the motions for it, and the linear solve over all cameras. None of them
-  // may print (Calibrate() is reentrant and writes nothing to stdout), which
-  // rules ViSP out here.
+  // may print (Calibrate() is reentrant and writes nothing to stdout).
+  // Every closed form of every camera is a candidate of its own: the one that
+  // fits its camera best need not be the one whose target explains all views best.
   std::vector<std::pair<std::string, Eigen::Isometry3d>> candidates;
   for (size_t k = 0; k < num_cameras; ++k) {
-    std::string chosen, why;
-    const auto solved = SilentClosedFormHandEye(problem, static_cast<int>(k), &chosen, &why);
-    if (solved)
-      candidates.emplace_back(chosen + " on camera '" + problem.dataset->cameras[k].name + "'", solved->second);
+    std::string why;
+    for (const NamedClosedForm& solved : SilentClosedForms(problem, static_cast<int>(k), &why))
+      candidates.emplace_back(solved.method + " on camera '" + problem.dataset->cameras[k].name + "'",
+                              solved.T_holder_target);
   }
   if (const auto shared = SharedTargetClosedForm(problem))
     candidates.emplace_back("linear solve over all cameras", *shared);
@@ -357,6 +377,7 @@ Initialisation InitialiseJoint(const Problem& full_problem) {
     }
   }
   std::ostringstream note;
+  note.precision(3);  // a note is read by a person: 0.0398 px, not 0.0397717
   note << "initialised from " << best_name << " (median view RMS " << best_score << " px, "
        << candidates.size() << " candidates)";
   best.notes.push_back(note.str());

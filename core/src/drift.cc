@@ -36,6 +36,12 @@ bool DriftResult::AnyMoved() const {
   return false;
 }
 
+bool DriftResult::AnyNotAssessed() const {
+  for (const CameraDrift& camera : cameras)
+    if (camera.verdict == "not_assessed") return true;
+  return false;
+}
+
 DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibration,
                        const DriftOptions& options) {
   std::string why;
@@ -66,12 +72,13 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
     const auto& views = problem.camera_views[k];
     drift.views = static_cast<int>(views.size());
     if (!cam.calibrated || drift.views < options.min_views) {
-      drift.verdict = "not seen";
-      out.warnings.push_back("camera '" + cam.name + "': " +
-                             (cam.calibrated ? std::to_string(drift.views) + " usable new views (at least " +
-                                                   std::to_string(options.min_views) + " needed)"
-                                             : std::string("not calibrated in the result")) +
-                             ": not checked");
+      drift.verdict = "not_assessed";
+      drift.reason = !cam.calibrated ? std::string("not calibrated in the result")
+                     : drift.views == 0 ? std::string("not seen: no new view of the target")
+                                        : "only " + std::to_string(drift.views) + " usable new view" +
+                                              (drift.views == 1 ? "" : "s") + ", at least " +
+                                              std::to_string(options.min_views) + " needed";
+      out.warnings.push_back("camera '" + cam.name + "': " + drift.reason + ": not checked");
       out.cameras.push_back(drift);
       continue;
     }
@@ -102,6 +109,7 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
     ceres::Solve(solver, &ceres_problem, &summary);
     const Eigen::Isometry3d T_cam_mount_now = FromPoseParams(T_cam_mount.data());
     drift.T_cam = T_cam_mount_now.inverse();
+    drift.estimated = true;
     const internal::PoseDifference moved = internal::DifferenceOf(drift.T_cam, cam.T_cam);
     drift.moved_mm = moved.translation_mm;
     drift.moved_deg = moved.rotation_deg;
@@ -125,14 +133,18 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
     // (3σ), so that a few noisy views do not call a camera moved.
     const bool beyond = drift.moved_mm > options.tolerance_mm || drift.moved_deg > options.tolerance_deg;
     const bool significant = drift.moved_mm > 3.0 * drift.sigma_mm || drift.moved_deg > 3.0 * drift.sigma_deg;
-    drift.verdict = beyond && significant ? "moved" : "ok";
+    // Beyond a tolerance but within the noise: the check cannot tell either way.
+    drift.verdict = beyond && significant ? "moved" : beyond ? "not_assessed" : "ok";
     if (beyond && !significant) {
       std::ostringstream w;
       w.precision(3);
-      w << "camera '" << cam.name << "' seems " << drift.moved_mm << " mm / " << drift.moved_deg
-        << " deg from its calibrated pose, within 3σ of the noise of the check (± " << drift.sigma_mm << " mm / ± "
-        << drift.sigma_deg << " deg): not called moved; take more poses with the target in its view to tell";
-      out.warnings.push_back(w.str());
+      w << "seems " << drift.moved_mm << " mm / " << drift.moved_deg
+        << " deg from its calibrated pose, within 3σ of the noise of the check (± "
+        << drift.sigma_mm << " mm / ± " << drift.sigma_deg << " deg)";
+      drift.reason = w.str();
+      out.warnings.push_back(
+          "camera '" + cam.name + "' " + drift.reason +
+          ": not called moved; take more poses with the target in its view to tell");
     }
     else if (drift.sigma_mm > 0.5 * options.tolerance_mm || drift.sigma_deg > 0.5 * options.tolerance_deg) {
       std::ostringstream w;

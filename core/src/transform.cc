@@ -3,7 +3,9 @@
 
 #include <Eigen/SVD>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 
 namespace handeye {
 
@@ -34,9 +36,15 @@ std::optional<Eigen::Isometry3d> RigidFromMatrix(const Eigen::Matrix4d& M, bool 
                 "or a singular matrix)");
   const double err = OrthonormalityError(R);
   if (err > kOrthonormalityTolerance) {
-    if (!reorthonormalise)
+    if (!reorthonormalise) {
+      char off[32];
+      std::snprintf(off, sizeof off, "%.2g", err);
       return fail("a rigid 4x4 transform (the rotation part is off orthonormal by " +
-                  std::to_string(err) + " > 1e-6; re-orthonormalisation was not asked for)");
+                  std::string(off) +
+                  ", more than 1e-6: rounded when it was printed? --reorthonormalise replaces it "
+                  "by the nearest "
+                  "rotation)");
+    }
     R = Orthonormalise(R);
   }
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

@@ -5,6 +5,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 
@@ -31,6 +32,27 @@ using internal::ReadSetup;
 
 // --- Reading -------------------------------------------------------------------
 
+// A detected point lies in its image. One far outside (a corrupt or
+// hand-edited file) is the observation's fault; left to the solve, it would
+// be blamed on the robot record of its pose. The margin (10 % of the image)
+// leaves room for points from another detector's pixel convention or a lens
+// model that maps them a little past the edge.
+void CheckPixelsInImage(const JsonReader& px_json, const Camera& camera, const Observation& view) {
+  if (camera.width <= 0 || camera.height <= 0) return;
+  const double margin_u = 0.1 * camera.width, margin_v = 0.1 * camera.height;
+  for (std::size_t i = 0; i < view.points_px.size(); ++i) {
+    const Eigen::Vector2d& px = view.points_px[i];
+    if (px.x() >= -0.5 - margin_u && px.x() <= camera.width - 0.5 + margin_u &&
+        px.y() >= -0.5 - margin_v && px.y() <= camera.height - 0.5 + margin_v)
+      continue;
+    std::ostringstream why;
+    why.precision(6);
+    why << "expected a pixel in the " << camera.width << " x " << camera.height
+        << " image of camera '" << camera.name << "' (a detected point lies in it), got ("
+        << px.x() << ", " << px.y() << "): this observation is wrong, not the robot pose";
+    throw px_json.At(i).Error(why.str());
+  }
+}
 
 std::shared_ptr<const Target> ReadTarget(const JsonReader& r) {
   const TargetSpec spec = TargetSpecFromJson(r);
@@ -257,6 +279,8 @@ void ReadObservations(const JsonReader& r, Dataset* dataset) {
                         view.camera + "' (also at " + it->second + ")");
     const JsonReader ids = entry.Key("ids");
     ReadIdsAndPixels(ids, entry.Key("points_px"), dataset->target.get(), &view);
+    CheckPixelsInImage(entry.Key("points_px"), dataset->cameras[dataset->CameraIndex(view.camera)],
+                       view);
     if (view.ids.empty())
       throw ids.Error(
           "expected at least one id (a view where the target was not found has no "

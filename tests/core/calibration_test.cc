@@ -315,7 +315,7 @@ TEST_CASE("Concurrent calibrations leave stdout open and agree", "[calibration][
   }
 }
 
-TEST_CASE("The joint and per-camera methods write nothing to stdout", "[calibration][reentrancy]") {
+TEST_CASE("No method writes to stdout, and stdout works after ViSP's", "[calibration][reentrancy]") {
   const SyntheticScene scene = Scene(2, 12, Setup::kEyeToHand, 42, 0.1);
   // Point fd 1 at a file for the calls, then put the test's stdout back.
   std::fflush(stdout);
@@ -325,7 +325,16 @@ TEST_CASE("The joint and per-camera methods write nothing to stdout", "[calibrat
   REQUIRE(saved >= 0);
   REQUIRE(dup2(fileno(capture), STDOUT_FILENO) >= 0);
   const auto captured_file = StdoutFile();
-  for (Method method : {Method::kJoint, Method::kPerCamera}) Run(scene.dataset, method);
+  // ViSP prints through printf and std::cout; it is also an initialisation
+  // candidate of the joint and per-camera methods.
+  for (Method method : {Method::kJoint, Method::kPerCamera, Method::kVisp}) Run(scene.dataset, method);
+  std::cout.flush();
+  std::fflush(stdout);
+  std::fseek(capture, 0, SEEK_END);
+  const long silent_size = std::ftell(capture);
+  // Both streams reach fd 1 again afterwards.
+  std::printf("c");
+  std::cout << "++";
   std::cout.flush();
   std::fflush(stdout);
   // fd 1 must still be the capture file when the calls have returned.
@@ -333,7 +342,8 @@ TEST_CASE("The joint and per-camera methods write nothing to stdout", "[calibrat
   dup2(saved, STDOUT_FILENO);
   close(saved);
   CHECK(still_captured);
+  CHECK(silent_size == 0);
   std::fseek(capture, 0, SEEK_END);
-  CHECK(std::ftell(capture) == 0);
+  CHECK(std::ftell(capture) == 3);
   std::fclose(capture);
 }

@@ -94,7 +94,11 @@ TEST_CASE("check rejects a result of another cell and a camera without new views
     if (obs.camera != "cam2") without_cam2.push_back(obs);
   later.observations = without_cam2;
   const DriftResult drift = CheckDrift(later, calibration, DriftOptions{});
-  CHECK(drift.cameras[2].verdict == "not seen");
+  CHECK(drift.cameras[2].verdict == "not_assessed");
+  CHECK_THAT(drift.cameras[2].reason, Catch::Contains("not seen"));
+  CHECK(drift.AnyNotAssessed());
+  CHECK_FALSE(drift.cameras[2].estimated);
+  CHECK(drift.cameras[0].estimated);
   CHECK_FALSE(drift.AnyMoved());
   later.setup = Setup::kEyeInHand;
   CHECK_THROWS_AS(CheckDrift(later, calibration, DriftOptions{}), InputError);

@@ -11,6 +11,7 @@
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/json_util.h"
 #include "handeye/sim/synthetic.h"
+#include "projected_cell.h"
 #include "support/test_support.h"
 
 using namespace handeye;
@@ -38,13 +39,7 @@ TEST_CASE("calibrate exits 2 on bad input and 3 on degenerate motion", "[cli][ca
   CHECK(out.find("missing.json") != std::string::npos);
 
   // Observations whose robot poses all share one orientation.
-  SceneOptions options;
-  options.cell = "small";
-  options.num_cameras = 2;
-  options.num_poses = 8;
-  SyntheticScene scene = MakeScene(options, std::make_shared<const CheckerboardTarget>(7, 4, 0.04));
-  std::mt19937_64 rng(1);
-  AddProjectedObservations(&scene, 0.1, &rng);
+  SyntheticScene scene = test::ProjectedSmallCell(8);
   const std::string obs = dir + "/obs.json";
   SaveObservations(scene.dataset, obs);
   CHECK(test::RunHandeye("calibrate " + obs + " -o " + dir + "/r.json --method nonsense", &out) == 2);
@@ -105,6 +100,6 @@ TEST_CASE("calibrate --observations-out into a missing folder exits 2 before det
   CHECK(test::RunHandeye("calibrate " + dir + "/sim/dataset.json -o " + dir + "/r.json --observations-out " + dir +
                              "/no/such/obs.json",
                          &out) == 2);
-  CHECK(out.find("--observations-out: cannot write: its folder does not exist") != std::string::npos);
+  CHECK(out.find("--observations-out: cannot write: folder '" + dir + "/no/such' does not exist") != std::string::npos);
   CHECK(out.find("detecting") == std::string::npos);
 }

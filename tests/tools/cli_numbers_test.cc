@@ -2,7 +2,10 @@
 // Every numeric option of every subcommand: a bad value exits with 2 and a
 // message in words ("--threads: expected 0 (all cores) or a positive count,
 // got -1"), never CLI11's range text with its 309-digit bound.
+#include <algorithm>
 #include <catch2/catch.hpp>
+#include <string>
+#include <thread>
 
 #include "support/test_support.h"
 
@@ -21,15 +24,23 @@ struct BadOption {
 TEST_CASE("Numeric options say what they expect", "[tools][cli][bad]") {
   const std::string dir = test::TempDir("cli_numbers");
   const std::string in = dir + "/in.json", out = " -o " + dir + "/out";
+  // --threads: at most 64 per core and 1024 in all (tools/cli_numbers.h).
+  const long long most_threads = std::min(1024LL, 64LL * std::max(1u, std::thread::hardware_concurrency()));
+  const std::string threads_text = "0 (all cores) or a positive count up to " + std::to_string(most_threads) +
+                                   " (64 per core, at most 1024)";
+  const char* threads = threads_text.c_str();
+  const std::string too_many_text = std::to_string(most_threads + 1);
   const BadOption cases[] = {
-      {"detect {in}", "--threads", "-1", "0 (all cores) or a positive count"},
-      {"detect {in}", "--threads", "1.5", "0 (all cores) or a positive count"},
-      {"calibrate {in}", "--threads", "-1", "0 (all cores) or a positive count"},
+      {"detect {in}", "--threads", "-1", threads},
+      {"detect {in}", "--threads", "1.5", threads},
+      {"detect {in}", "--threads", "100000", threads},
+      {"detect {in}", "--threads", too_many_text.c_str(), threads},
+      {"calibrate {in}", "--threads", "-1", threads},
       {"calibrate {in}", "--cauchy-scale", "-1", "0 (from the residuals) or a positive scale in pixels"},
       {"calibrate {in}", "--robot-sigma-mm", "-0.5", "a non-negative sigma in mm"},
       {"calibrate {in}", "--cauchy-scale", "nan", "0 (from the residuals) or a positive scale in pixels"},
-      {"report {in} {in}", "--threads", "x", "0 (all cores) or a positive count"},
-      {"simulate {sim}", "--threads", "-2", "0 (all cores) or a positive count"},
+      {"report {in} {in}", "--threads", "x", threads},
+      {"simulate {sim}", "--threads", "-2", threads},
       {"simulate {sim}", "--cameras", "0", "between 1 and 64 cameras"},
       {"simulate {sim}", "--cameras", "65", "between 1 and 64 cameras"},
       {"simulate {sim}", "--poses", "-5", "between 1 and 100000 poses"},

@@ -143,10 +143,12 @@ TEST_CASE("handeye detect: bad input exits with 2 and says what is wrong", "[too
     CHECK(test::RunHandeye("detect '" + dataset + "'", &out) == 2);
     CHECK_THAT(out, Contains("--output is required"));
     CHECK(test::RunHandeye("detect '" + dataset + "' -o x.json --threads -1", &out) == 2);
-    CHECK_THAT(out, Contains("--threads: expected 0 (all cores) or a positive count, got -1"));
+    CHECK_THAT(out, Contains("--threads: expected 0 (all cores) or a positive count"));
+    CHECK_THAT(out, Contains("got -1"));
     CHECK(out.size() < 200);  // no 300-digit range
     CHECK(test::RunHandeye("detect '" + dataset + "' -o x.json --threads two", &out) == 2);
-    CHECK_THAT(out, Contains("--threads: expected 0 (all cores) or a positive count, got two"));
+    CHECK_THAT(out, Contains("--threads: expected 0 (all cores) or a positive count"));
+    CHECK_THAT(out, Contains("got two"));
   }
 }
 

@@ -28,11 +28,12 @@ enum class Method {
   kPerCamera,  ///< the same reprojection solve, one T_holder_target per camera (Evangelista et al.)
   kTsai, kPark, kHoraud, kAndreff, kDaniilidis,  ///< OpenCV calibrateHandEye, per camera
   kShah, kLi,  ///< OpenCV calibrateRobotWorldHandEye, per camera
-  /// ViSP vpHandEyeCalibration, per camera. ViSP 3.5 always prints its
-  /// residuals to standard output, so Calibrate() points file descriptor 1 at
-  /// /dev/null around that call, one call at a time (a process-wide lock):
-  /// what other threads write to stdout meanwhile is lost. No other method
-  /// touches stdout.
+  /// ViSP vpHandEyeCalibration, per camera (also one of the initialisation's
+  /// candidates for every reprojection method). ViSP 3.5 always prints, so
+  /// around that call std::cout's buffer and C's `stdout` stream are swapped
+  /// for sinks, one call at a time (a process-wide lock): what other threads
+  /// print through std::cout or stdout meanwhile is lost. File descriptor 1
+  /// is never touched.
   kVisp,
 };
 /// The `--method` name of a method, e.g. "joint".

@@ -16,7 +16,7 @@ namespace handeye {
 struct DriftOptions {
   double tolerance_mm = 1.0;   ///< a camera moved when its centre moved more …
   double tolerance_deg = 0.1;  ///< … or it turned more than this
-  int min_views = 2;           ///< fewer usable new views: "not seen"
+  int min_views = 2;           ///< fewer usable new views: "not_assessed"
   int threads = 1;
   /// False, with the reason, for non-positive tolerances or min_views < 1.
   bool Check(std::string* why) const;
@@ -25,8 +25,12 @@ struct DriftOptions {
 /// One camera's verdict.
 struct CameraDrift {
   std::string name;
-  /// "moved": beyond a tolerance and by more than 3σ; "ok"; "not seen": too few new views.
+  /// "moved": beyond a tolerance and by more than 3σ; "ok": within the
+  /// tolerances; "not_assessed": the new data cannot tell (`reason` says why:
+  /// too few new views, not calibrated in the result, or a move beyond a
+  /// tolerance that the check's noise could explain).
   std::string verdict;
+  std::string reason;    ///< why not_assessed; empty otherwise
   double moved_mm = 0;   ///< distance between the calibrated and the new camera centre
   double moved_deg = 0;  ///< angle between the calibrated and the new orientation
   /// 1σ of the move (sqrt of the trace, as PoseUncertainty): the new
@@ -34,6 +38,10 @@ struct CameraDrift {
   double sigma_mm = 0;
   double sigma_deg = 0;
   int views = 0;  ///< new views used
+  /// True when the camera was estimated from its new views (moved_*,
+  /// sigma_* and T_cam hold the estimate); false for "not_assessed" cameras
+  /// without enough views or not calibrated.
+  bool estimated = false;
   /// The camera's pose now (eye_to_hand: T_base_cam; eye_in_hand: T_ee_cam).
   Eigen::Isometry3d T_cam = Eigen::Isometry3d::Identity();
 };
@@ -42,6 +50,8 @@ struct DriftResult {
   std::vector<CameraDrift> cameras;  ///< result order
   std::vector<std::string> warnings;
   bool AnyMoved() const;
+  /// True when some camera is "not_assessed".
+  bool AnyNotAssessed() const;
 };
 
 /// Checks every calibrated camera of `calibration` against the new views of

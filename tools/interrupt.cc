@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// SIGINT, SIGTERM and SIGHUP remove the temporary files and folders in
+// flight before the program ends, so that an interrupted write leaves no
+// `.tmp` behind. The signals are blocked in every thread and taken by one
+// thread that waits for them (sigwait): the cleanup then runs as ordinary
+// code, not in a signal handler, where almost nothing is safe to call.
+#include <pthread.h>
+#include <signal.h>
+
+#include <thread>
+
+#include "commands.h"
+#include "handeye/io/atomic_file.h"
+
+namespace handeye::tools {
+
+void RemoveTemporariesOnInterrupt() {
+  sigset_t signals;
+  sigemptyset(&signals);
+  for (int signal_number : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&signals, signal_number);
+  // Before any other thread starts: threads inherit the mask, so none of
+  // them takes the signal with its default action (ending the process at once).
+  if (pthread_sigmask(SIG_BLOCK, &signals, nullptr) != 0) return;
+  std::thread([signals]() {
+    int caught = 0;
+    if (sigwait(&signals, &caught) != 0) return;
+    RemoveTemporariesInFlight();
+    // End as the signal would have ended the program (status 128 + signal
+    // for the shell): its default action, delivered to this thread.
+    signal(caught, SIG_DFL);
+    pthread_sigmask(SIG_UNBLOCK, &signals, nullptr);
+    raise(caught);
+  }).detach();
+}
+
+}  // namespace handeye::tools
