@@ -103,7 +103,7 @@ CalibrationOptions OptionsOf(const CalibrateCall& call, std::optional<Setup>* fr
   HoldCameras(call.from_result, call.keep_cameras, &options, &setup);
   if (!options.fixed_cameras.empty()) *from_setup = setup;
   options.cross_validate = call.cross_validate;
-  if (call.threads < 0) throw InputError("", "threads", "expected 0 (all cores) or more");
+  CheckThreads(call.threads);
   // As the CLI: 0 is every core.
   options.threads = call.threads > 0
                         ? call.threads

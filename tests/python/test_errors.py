@@ -100,6 +100,8 @@ def test_unknown_names_and_bad_cameras_are_refused():
         handeye.Dataset(target="hexagons")
     with pytest.raises(handeye.InputError, match="at method: expected one of joint"):
         handeye.calibrate(dataset, method="magic")
+    with pytest.raises(handeye.InputError, match="at threads: expected 0 \\(all cores\\) or a positive count up to"):
+        handeye.calibrate(dataset, threads=100000)
 
 
 def test_ids_the_target_does_not_have_are_an_input_error():
@@ -178,3 +180,18 @@ def test_any_value_in_any_argument_raises_and_never_crashes(value, tmp_path):
             call()
         except Exception:  # noqa: BLE001 - any Python exception is fine; a crash is not
             pass
+
+
+def test_nothing_is_written_over_an_input_as_the_cli_refuses(cell, cli_result, tmp_path):
+    observations, result_path = cell["observations"], str(cell["dir"] / "cli_result.json")
+    before = open(observations).read(), open(result_path).read()
+    result = handeye.calibrate(observations, threads=2)
+    dataset = handeye.Dataset.load(observations)
+    for write, expected in [(lambda: result.save(observations), "path names the input INPUT"),
+                            (lambda: dataset.save_observations(observations), "path names the input DATASET"),
+                            (lambda: dataset.save(observations), "path names the input DATASET"),
+                            (lambda: handeye.export(result_path, "urdf", result_path), "names the input RESULT"),
+                            (lambda: result.save(str(tmp_path / "missing" / "r.json")), "does not exist")]:
+        with pytest.raises(handeye.InputError, match=expected):
+            write()
+    assert (open(observations).read(), open(result_path).read()) == before
