@@ -16,6 +16,7 @@ and prints the median wall times and their ratio. Exit 1 when the results differ
 """
 
 import argparse
+import json
 import os
 import statistics
 import subprocess
@@ -46,7 +47,7 @@ def main():
     start = time.perf_counter()
     dataset = handeye.Dataset.load(args.observations)
     load_s = time.perf_counter() - start
-    cli_s, python_s = [], []
+    cli_s, python_s, cli_solve_s, python_solve_s = [], [], [], []
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "result.json")
         for _ in range(args.runs):
@@ -54,9 +55,11 @@ def main():
             printed = subprocess.run([args.handeye, "calibrate", args.observations, "-o", out, "--threads",
                                       str(args.threads)], check=True, capture_output=True, text=True).stdout
             cli_s.append(time.perf_counter() - start)
+            cli_solve_s.append(json.load(open(out))["solver"]["seconds"])
             start = time.perf_counter()
             result = handeye.calibrate(dataset, threads=args.threads)
             python_s.append(time.perf_counter() - start)
+            python_solve_s.append(result.solver["seconds"])
         cli_text = open(out).read()
     differences, (where, largest) = handeye.result_differences(result.to_json(), cli_text, tolerance=1e-7)
     same = not differences
@@ -66,6 +69,8 @@ def main():
     print(f"views {len(dataset.views)}, poses {len(dataset.pose_ids)}, cameras {len(dataset.cameras)}")
     print(f"CLI calibrate from the file:      median {cli:.3f} s  ({', '.join(f'{s:.3f}' for s in cli_s)})")
     print(f"Python calibrate from memory:     median {python:.3f} s  ({', '.join(f'{s:.3f}' for s in python_s)})")
+    print(f"the solve inside (solver.seconds): CLI median {statistics.median(cli_solve_s):.3f} s, Python median "
+          f"{statistics.median(python_solve_s):.3f} s")
     print(f"Python Dataset.load (once):       {load_s:.3f} s")
     print(f"Python / CLI: {python / cli:.3f} (load included: {(python + load_s) / cli:.3f})")
     print(f"result files: the same but for reals within 1e-7: {'yes' if same else 'NO ' + str(differences[:3])} "

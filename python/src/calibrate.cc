@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <thread>
 
 #include "bindings.h"
@@ -45,9 +46,12 @@ unsigned IntrinsicsFrom(py::handle refine) {
 // A robot sigma as given (None: -1, estimated), which must be finite and >= 0.
 double RobotSigma(py::handle value, const std::string& name) {
   if (value.is_none()) return -1;
-  const std::vector<double> sigma = FiniteVector(py::make_tuple(value), name);
-  if (sigma[0] < 0) throw InputError("", name, "expected a non-negative sigma");
-  return sigma[0];
+  const bool number = (py::isinstance<py::int_>(value) || py::isinstance<py::float_>(value)) &&
+                      !py::isinstance<py::bool_>(value);
+  const double sigma = number ? value.cast<double>() : -1;
+  if (!number || !std::isfinite(sigma) || sigma < 0)
+    throw InputError("", name, "expected a non-negative number or None (estimated from the views)");
+  return sigma;
 }
 
 // `keep_cameras` with `from_result` (a Result or a result file): the cameras
@@ -99,7 +103,7 @@ CalibrationOptions OptionsOf(const CalibrateCall& call, std::optional<Setup>* fr
   HoldCameras(call.from_result, call.keep_cameras, &options, &setup);
   if (!options.fixed_cameras.empty()) *from_setup = setup;
   options.cross_validate = call.cross_validate;
-  if (call.threads < 0) throw InputError("", "threads", "expected 0 (all cores) or more");
+  CheckThreads(call.threads);
   // As the CLI: 0 is every core.
   options.threads = call.threads > 0
                         ? call.threads

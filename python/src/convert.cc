@@ -3,10 +3,13 @@
 
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <nlohmann/json.hpp>
+#include <thread>
 
+#include "../../tools/cli_numbers.h"
 #include "../../tools/target_options.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
@@ -106,6 +109,15 @@ std::vector<int> IdVector(py::handle value, const std::string& where) {
     out.push_back(static_cast<int>(id));
   }
   return out;
+}
+
+void CheckThreads(int threads) {
+  const long long cores = std::max(1u, std::thread::hardware_concurrency());
+  const long long most = std::min<long long>(tools::kMaxThreads, tools::kMaxThreadsPerCore * cores);
+  if (threads < 0 || threads > most)
+    throw InputError("", "threads",
+                     "expected 0 (all cores) or a positive count up to " + std::to_string(most) +
+                         ", got " + std::to_string(threads));
 }
 
 Eigen::Isometry3d RigidTransform(py::handle value, const std::string& where,

@@ -30,6 +30,9 @@ Eigen::MatrixXd FiniteMatrix(py::handle value, int rows, int cols, const std::st
 std::vector<double> FiniteVector(py::handle value, const std::string& where);
 /// Integer ids (1-D array or list of integers; floats are refused).
 std::vector<int> IdVector(py::handle value, const std::string& where);
+/// Throws InputError unless `threads` is 0 (all cores) or a count the CLI's
+/// --threads accepts (at most kMaxThreadsPerCore per core and kMaxThreads).
+void CheckThreads(int threads);
 /// A 4×4 rigid transform: last row [0 0 0 1], rotation orthonormal (or made so).
 Eigen::Isometry3d RigidTransform(py::handle value, const std::string& where,
                                  bool reorthonormalise = false);

@@ -5,6 +5,7 @@
 
 #include <cstring>
 
+#include "../../tools/output_paths.h"
 #include "bindings.h"
 #include "convert.h"
 #include "handeye/core/error.h"
@@ -165,7 +166,7 @@ py::array_t<std::uint8_t> LoadImage(const PyDataset& self, const std::string& ca
 }
 
 void Detect(PyDataset& self, int threads, py::object progress) {
-  if (threads < 0) throw InputError("", "threads", "expected 0 (all cores) or more");
+  CheckThreads(threads);
   Progress report(std::move(progress));
   DetectOptions options;
   options.threads = threads;
@@ -175,6 +176,14 @@ void Detect(PyDataset& self, int threads, py::object progress) {
   WithoutGil([&] { DetectAll(&detected, options); });
   report.Rethrow();
   self.dataset = std::move(detected);
+}
+
+// As the CLI checks its outputs: writable, and none of the dataset's own
+// files (the file it was loaded from, its images).
+void CheckOutput(const PyDataset& self, const std::string& path) {
+  std::vector<tools::NamedPath> inputs = tools::ImageInputs(self.dataset);
+  inputs.push_back({"DATASET", self.path});
+  tools::CheckFileOutputs(inputs, {{"path", path}});
 }
 
 py::list Views(const PyDataset& self) {
@@ -252,11 +261,16 @@ void AddDataset(py::module_& m) {
            "progress(done, total) is called after each image.")
       .def(
           "save",
-          [](const PyDataset& self, const std::string& path) { SaveDataset(self.dataset, path); },
-          py::arg("path"), "Writes handeye-dataset/1.")
+          [](const PyDataset& self, const std::string& path) {
+            CheckOutput(self, path);
+            SaveDataset(self.dataset, path);
+          },
+          py::arg("path"),
+          "Writes handeye-dataset/1 (never over the file it was loaded from or an image).")
       .def(
           "save_observations",
           [](const PyDataset& self, const std::string& path) {
+            CheckOutput(self, path);
             SaveObservations(self.dataset, path);
           },
           py::arg("path"), "Writes handeye-observations/1 (what `handeye detect -o` writes).")

@@ -7,6 +7,7 @@
 
 #include <cstdio>
 
+#include "../../tools/output_paths.h"
 #include "bindings.h"
 #include "convert.h"
 #include "handeye/core/calibration.h"
@@ -152,7 +153,11 @@ void AddResult(py::module_& m) {
           "to_json", [](const PyResult& r) { return ResultJson(r.result); },
           "The handeye-result/1 text `handeye calibrate -o` writes.")
       .def(
-          "save", [](const PyResult& r, const std::string& path) { SaveResult(r.result, path); },
+          "save",
+          [](const PyResult& r, const std::string& path) {
+            tools::CheckFileOutputs({{"INPUT", r.result.input}}, {{"path", path}});
+            SaveResult(r.result, path);
+          },
           py::arg("path"), "Writes handeye-result/1 (atomically).")
       .def("__repr__", [](const PyResult& r) {
         int calibrated = 0;

@@ -3,9 +3,11 @@
 // subcommands (tools/detect.cc, check.cc, export.cc, simulate.cc).
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <filesystem>
 #include <tuple>
 
+#include "../../tools/output_paths.h"
 #include "../../tools/target_options.h"
 #include "bindings.h"
 #include "convert.h"
@@ -68,12 +70,13 @@ PyDataset DetectedDataset(py::handle source, int threads, py::object progress) {
 
 py::dict DriftDict(const DriftResult& drift, const DriftOptions& options) {
   py::dict cameras;
-  py::list moved;
+  py::list moved, not_assessed;
   for (const CameraDrift& c : drift.cameras) {
     py::dict entry;
     entry["verdict"] = c.verdict;
+    if (!c.reason.empty()) entry["reason"] = c.reason;
     entry["views"] = c.views;
-    if (c.verdict != "not seen") {
+    if (c.estimated) {
       entry["moved_mm"] = c.moved_mm;
       entry["moved_deg"] = c.moved_deg;
       entry["sigma_mm"] = c.sigma_mm;
@@ -81,6 +84,7 @@ py::dict DriftDict(const DriftResult& drift, const DriftOptions& options) {
       entry["T_cam"] = TransformArray(c.T_cam);
     }
     if (c.verdict == "moved") moved.append(c.name);
+    if (c.verdict == "not_assessed") not_assessed.append(c.name);
     cameras[py::str(c.name)] = entry;
   }
   py::dict out;
@@ -90,12 +94,13 @@ py::dict DriftDict(const DriftResult& drift, const DriftOptions& options) {
   out["cameras"] = cameras;
   out["warnings"] = drift.warnings;
   out["moved"] = moved;
+  out["not_assessed"] = not_assessed;
   return out;
 }
 
 py::dict Check(py::handle result, py::handle source, double tolerance_mm, double tolerance_deg,
                int threads, py::object progress) {
-  if (threads < 0) throw InputError("", "threads", "expected 0 (all cores) or more");
+  CheckThreads(threads);
   DriftOptions options;
   options.tolerance_mm = tolerance_mm;
   options.tolerance_deg = tolerance_deg;
@@ -131,8 +136,11 @@ std::string Export(py::handle result, const std::string& to, py::object path,
   std::string text;
   try {
     text = FormatExport(calibration, *format, frames, source, &warnings);
-    if (!path.is_none())
+    if (!path.is_none()) {
+      tools::CheckFileOutputs({{"RESULT", py::isinstance<py::str>(result) ? source : ""}},
+                              {{"path", path.cast<std::string>()}});
       ExportResult(calibration, *format, frames, source, path.cast<std::string>(), &warnings);
+    }
   } catch (const InputError& e) {
     throw e.file().empty() && source != "handeye.Result" ? e.WithFile(source) : e;
   }
@@ -174,7 +182,9 @@ SceneOptions SceneOf(const SimulateCall& call) {
   }
   if (!call.image_size.is_none()) {
     const std::vector<double> size = FiniteVector(call.image_size, "image_size");
-    if (size.size() != 2) throw InputError("", "image_size", "expected (width, height)");
+    if (size.size() != 2 || size[0] != std::floor(size[0]) || size[1] != std::floor(size[1]) ||
+        size[0] < 1 || size[1] < 1 || size[0] > 1e5 || size[1] > 1e5)
+      throw InputError("", "image_size", "expected (width, height) in whole pixels");
     options.width = static_cast<int>(size[0]);
     options.height = static_cast<int>(size[1]);
   }
@@ -202,7 +212,7 @@ py::dict Simulate(const SimulateCall& call) {
   render.every_view = !call.visible_only;
   std::string why;
   if (!render.Check(&why)) throw InputError("", "blur/noise", "expected " + why);
-  if (call.threads < 0) throw InputError("", "threads", "expected 0 (all cores) or more");
+  CheckThreads(call.threads);
   std::error_code ec;
   std::filesystem::create_directories(call.outdir, ec);
   if (!std::filesystem::is_directory(call.outdir, ec))
@@ -232,12 +242,13 @@ void AddTools(py::module_& m) {
         "Runs the target's detector on one image array (H×W uint8/uint16, or H×W×3 BGR): (ids, "
         "pixels N×2), or "
         "None when the target is not found.");
-  m.def("check", &Check, py::arg("result"), py::arg("source"), py::kw_only(),
-        py::arg("tolerance_mm") = 1.0, py::arg("tolerance_deg") = 0.1, py::arg("threads") = 0,
-        py::arg("progress") = py::none(),
-        "Has a camera moved since `result`? As `handeye check`: the handeye-check/1 content as a "
-        "dict, plus "
-        "each camera's new T_cam and the list `moved` (non-empty where the CLI exits 4).");
+  m.def(
+      "check", &Check, py::arg("result"), py::arg("source"), py::kw_only(),
+      py::arg("tolerance_mm") = 1.0, py::arg("tolerance_deg") = 0.1, py::arg("threads") = 0,
+      py::arg("progress") = py::none(),
+      "Has a camera moved since `result`? As `handeye check`: the handeye-check/1 content as a "
+      "dict, plus each assessed camera's new T_cam and the lists `moved` (non-empty where the CLI "
+      "exits 4) and `not_assessed` (else non-empty where it exits 3).");
   m.def(
       "export",
       [](py::handle result, const std::string& to, py::object path, const std::string& base_frame,

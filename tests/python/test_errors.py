@@ -100,6 +100,8 @@ def test_unknown_names_and_bad_cameras_are_refused():
         handeye.Dataset(target="hexagons")
     with pytest.raises(handeye.InputError, match="at method: expected one of joint"):
         handeye.calibrate(dataset, method="magic")
+    with pytest.raises(handeye.InputError, match="at threads: expected 0 \\(all cores\\) or a positive count up to"):
+        handeye.calibrate(dataset, threads=100000)
 
 
 def test_ids_the_target_does_not_have_are_an_input_error():
@@ -138,3 +140,58 @@ def test_bad_images_are_refused():
         with pytest.raises(handeye.InputError, match="at image: ") as error:
             handeye.detect(image, "checkerboard")
         assert expected in str(error.value)
+
+
+GARBAGE = [None, "x", b"x", 3, 3.5, True, [], [[]], {}, (), object(), np.zeros(0), np.zeros((0, 4, 4)),
+           np.full((4, 4), np.inf), np.array([1, 2], dtype=object), np.array(["a"]), np.eye(4)[::2],
+           np.zeros((2, 2, 2, 2)), np.zeros((5, 1 << 16), np.uint8), np.zeros((1, 1), np.uint8),
+           np.zeros((3, 3, 3), np.uint16), np.zeros((4, 4, 1), np.uint8)]
+
+
+@pytest.mark.parametrize("value", GARBAGE, ids=lambda v: type(v).__name__)
+def test_any_value_in_any_argument_raises_and_never_crashes(value, tmp_path):
+    dataset = small_dataset()
+    calls = [
+        lambda: dataset.add_camera("c", value, image_size=(640, 480)),
+        lambda: dataset.add_camera("c", K, value, image_size=(640, 480)),
+        lambda: dataset.add_camera("c", K, image_size=value),
+        lambda: dataset.add_pose(value),
+        lambda: dataset.add_poses(value),
+        lambda: dataset.add_view("cam0", 0, value, [[1.0, 2.0]]),
+        lambda: dataset.add_view("cam0", 0, [0], value),
+        lambda: dataset.add_view("cam0", value, [0], [[1.0, 2.0]]),
+        lambda: dataset.detect_image("cam0", 0, value),
+        lambda: handeye.detect(value, "checkerboard"),
+        lambda: handeye.detect(np.zeros((8, 8), np.uint8), value),
+        lambda: handeye.Dataset(target=value),
+        lambda: handeye.calibrate(value),
+        lambda: handeye.calibrate(handeye.Dataset(target=value)),
+        lambda: handeye.calibrate(dataset, method=value),
+        lambda: handeye.calibrate(dataset, threads=value),
+        lambda: handeye.calibrate(dataset, robot_sigma_mm=value, robot_sigma_deg=0),
+        lambda: handeye.calibrate(dataset, refine_intrinsics=value),
+        lambda: handeye.export(value, "urdf"),
+        lambda: handeye.simulate(str(tmp_path), cameras=1, poses=1, visible_only=True, image_size=value),
+        lambda: handeye.simulate(str(tmp_path), cameras=1, poses=1, visible_only=True, image_size=(64, 48),
+                                 target=value),
+    ]
+    for call in calls:
+        try:
+            call()
+        except Exception:  # noqa: BLE001 - any Python exception is fine; a crash is not
+            pass
+
+
+def test_nothing_is_written_over_an_input_as_the_cli_refuses(cell, cli_result, tmp_path):
+    observations, result_path = cell["observations"], str(cell["dir"] / "cli_result.json")
+    before = open(observations).read(), open(result_path).read()
+    result = handeye.calibrate(observations, threads=2)
+    dataset = handeye.Dataset.load(observations)
+    for write, expected in [(lambda: result.save(observations), "path names the input INPUT"),
+                            (lambda: dataset.save_observations(observations), "path names the input DATASET"),
+                            (lambda: dataset.save(observations), "path names the input DATASET"),
+                            (lambda: handeye.export(result_path, "urdf", result_path), "names the input RESULT"),
+                            (lambda: result.save(str(tmp_path / "missing" / "r.json")), "does not exist")]:
+        with pytest.raises(handeye.InputError, match=expected):
+            write()
+    assert (open(observations).read(), open(result_path).read()) == before

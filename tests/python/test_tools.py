@@ -80,7 +80,9 @@ def test_check_finds_the_bumped_camera_as_handeye_check_does(cell, cli_result, t
                             progress=lambda done, total: progress.append(done))
     cli = json.load(open(check_path))
     assert code == 4 and verdict["moved"] == ["cam1"] and progress
+    assert verdict["cameras"].keys() == cli["cameras"].keys()
     for name, camera in cli["cameras"].items():
         ours = verdict["cameras"][name]
-        assert ours["verdict"] == camera["verdict"] and ours["views"] == camera["views"]
-        assert ours["moved_mm"] == camera["moved_mm"] and ours["sigma_mm"] == camera["sigma_mm"]
+        for key in ("verdict", "reason", "views", "moved_mm", "moved_deg", "sigma_mm", "sigma_deg"):
+            assert ours.get(key) == camera.get(key), (name, key)
+        assert ("T_cam" in ours) == ("moved_mm" in camera)
