@@ -6,7 +6,9 @@
 // code, not in a signal handler, where almost nothing is safe to call.
 #include <pthread.h>
 #include <signal.h>
+#include <unistd.h>
 
+#include <atomic>
 #include <system_error>
 #include <thread>
 
@@ -14,6 +16,15 @@
 #include "handeye/io/atomic_file.h"
 
 namespace handeye::tools {
+namespace {
+
+std::atomic<bool> interrupted{false};
+
+}  // namespace
+
+void EndIfInterrupted() {
+  while (interrupted) pause();  // the thread that took the signal ends the program
+}
 
 void RemoveTemporariesOnInterrupt() {
   sigset_t signals;
@@ -32,6 +43,7 @@ void RemoveTemporariesOnInterrupt() {
     std::thread([signals]() {
       int caught = 0;
       if (sigwait(&signals, &caught) != 0) return;
+      interrupted = true;
       RemoveTemporariesInFlight();
       // End as the signal would have ended the program (status 128 + signal
       // for the shell): its default action, delivered to this thread.
