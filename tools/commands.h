@@ -44,6 +44,10 @@ struct ExitStatus {
 /// Call first in main(), before any thread starts.
 void RemoveTemporariesOnInterrupt();
 
+/// When an interrupt is being handled, waits for it to end the program
+/// (called before main() returns, so that the exit status is the signal's).
+void EndIfInterrupted();
+
 /// Prints each warning on stderr as "warning: ...".
 void PrintWarnings(const std::vector<std::string>& warnings);
 

@@ -90,14 +90,10 @@ void PrintWarnings(const std::vector<std::string>& warnings) {
 
 }  // namespace handeye::tools
 
-int main(int argc, char** argv) {
-  handeye::tools::RemoveTemporariesOnInterrupt();
-  // Detection and the report go through thousands of multi-MB images.
-  handeye::ReuseFreedImageMemory();
-  CLI::App app{"handeye: calibrates a network of cameras against an industrial robot"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", "handeye " HANDEYE_VERSION);
-  handeye::tools::AddRecordedSubcommands(app);
+namespace {
+
+// Parses and runs the subcommand; returns the exit code (SPEC §7).
+int Run(CLI::App& app, int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -122,4 +118,21 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  handeye::tools::RemoveTemporariesOnInterrupt();
+  // Detection and the report go through thousands of multi-MB images.
+  handeye::ReuseFreedImageMemory();
+  CLI::App app{"handeye: calibrates a network of cameras against an industrial robot"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "handeye " HANDEYE_VERSION);
+  handeye::tools::AddRecordedSubcommands(app);
+  const int code = Run(app, argc, argv);
+  // A write that failed because an interrupt removed its folder ends with
+  // the signal, as the interrupt asked, not with the write's error.
+  handeye::tools::EndIfInterrupted();
+  return code;
 }

@@ -33,6 +33,14 @@ std::optional<FileId> IdOf(const fs::path& path) {
   return FileId{st.st_dev, st.st_ino};
 }
 
+// The path with every existing part resolved (links, "." and ".."), made
+// absolute first: weakly_canonical leaves a relative path whose first part
+// does not exist as it is, so "x.json" and "./x.json" would differ.
+fs::path Canonical(const std::string& path, std::error_code* ec) {
+  const fs::path absolute = fs::absolute(path, *ec);
+  return *ec ? fs::path() : fs::weakly_canonical(absolute, *ec);
+}
+
 std::string Quoted(const NamedPath& named) { return named.option + " '" + named.path + "'"; }
 
 // The same file: one identity, or (one of them not there yet) one canonical path.
@@ -40,8 +48,7 @@ bool SameFile(const std::string& a, const std::string& b) {
   const auto id_a = IdOf(a), id_b = IdOf(b);
   if (id_a && id_b) return *id_a == *id_b;
   std::error_code ec_a, ec_b;
-  const fs::path canonical_a = fs::weakly_canonical(a, ec_a),
-                 canonical_b = fs::weakly_canonical(b, ec_b);
+  const fs::path canonical_a = Canonical(a, &ec_a), canonical_b = Canonical(b, &ec_b);
   return !ec_a && !ec_b && canonical_a == canonical_b;
 }
 
@@ -82,13 +89,13 @@ void CheckNotAnInput(const std::vector<NamedPath>& inputs, const NamedPath& outp
 // by canonical path or, for paths that exist, by the folders' identity.
 const NamedPath* Inside(const std::vector<NamedPath>& paths, const std::string& folder) {
   std::error_code ec;
-  fs::path canonical_folder = fs::weakly_canonical(folder, ec);
+  fs::path canonical_folder = Canonical(folder, &ec);
   if (!canonical_folder.has_filename())
     canonical_folder = canonical_folder.parent_path();  // "out/"
   const auto folder_id = IdOf(folder);
   for (const NamedPath& named : paths) {
     if (named.path.empty()) continue;
-    const fs::path canonical = fs::weakly_canonical(named.path, ec);
+    const fs::path canonical = Canonical(named.path, &ec);
     if (ec) continue;
     for (fs::path up = canonical;; up = up.parent_path()) {
       if (up == canonical_folder || (folder_id && IdOf(up) == folder_id)) return &named;

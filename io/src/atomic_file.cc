@@ -30,8 +30,10 @@ struct InFlightRegistry {
 };
 
 InFlightRegistry& Registry() {
-  static InFlightRegistry registry;
-  return registry;
+  // Never destroyed: the thread that handles an interrupt may still use it
+  // while the program exits.
+  static InFlightRegistry* const registry = new InFlightRegistry;
+  return *registry;
 }
 
 // Removes a file or a whole folder. A folder that other threads still write

@@ -57,6 +57,12 @@ TEST_CASE("calibrate, check, export and detect refuse to write over their input"
                          &out) == 2);
   CHECK_THAT(out, Contains("name the same file"));
   CHECK_FALSE(std::filesystem::exists(dir + "/new.json"));
+  // The same, as a bare name and as ./name in the working folder (nothing is written there).
+  const std::string bare = "same-" + std::to_string(getpid()) + ".json";
+  CHECK(test::RunHandeye("calibrate " + obs + " -o " + bare + " --observations-out ./" + bare,
+                         &out) == 2);
+  CHECK_THAT(out, Contains("name the same file"));
+  CHECK_FALSE(std::filesystem::exists(bare));
 
   RequireRefused("export " + result + " --to urdf -o " + result, result, {"RESULT", "-o"});
   RequireRefused("check " + result + " " + obs + " -o " + result, result, {"RESULT"});
@@ -80,7 +86,7 @@ TEST_CASE("import-poses, import-metric, target and simulate refuse to write over
        {{{"name", "cam0"},
          {"image_size", {640, 480}},
          {"intrinsics", {{"fx", 500.0}, {"fy", 500.0}, {"cx", 319.5}, {"cy", 239.5}}},
-             {"distortion", {{"model", "none"}}}}}}};
+         {"distortion", {{"model", "none"}}}}}}};
   test::WriteText(dir + "/t.json", templ.dump());
   test::WriteText(dir + "/poses.csv", "id,x,y,z,qx,qy,qz,qw\n0001,0.4,0.1,0.9,0,0,0,1\n");
   const std::string import = "import-poses " + dir + "/poses.csv --template " + dir + "/t.json -o ";
