@@ -103,9 +103,9 @@ std::string FlippedViewsNote(const Problem& problem) {
       list += (count++ ? ", " : "") + view.observation->pose_id + "/" + view.observation->camera;
   if (!count) return "";
   return std::to_string(count) + " view" + (count > 1 ? "s" : "") +
-         " of the 180°-ambiguous board numbered half a turn round (the detector cannot tell) fit "
-         "the robot's motion only with the ids reversed (id -> N - 1 - id) and were used so "
-         "(`flipped` in the views); pose/camera: " + list;
+         " of the 180°-ambiguous board were numbered half a turn round from the others (no detector "
+         "can tell); the robot's motions say so, and they were used with their ids reversed "
+         "(id -> N - 1 - id; `flipped` in the views); pose/camera: " + list;
 }
 
 /// For each camera, the groups the intrinsics check looks at: focal length

@@ -9,7 +9,6 @@
 
 #include "calibration_internal.h"
 #include "cost_jacobians.h"
-#include "handeye/core/checkerboard.h"
 #include "handeye/core/transform.h"
 
 namespace handeye::internal {
@@ -125,23 +124,6 @@ Eigen::Vector3d TargetCentre(const Target& target) {
 
 }  // namespace
 
-std::optional<Eigen::Isometry3d> HalfTurnSymmetry(const Target& target) {
-  const auto* board = dynamic_cast<const CheckerboardTarget*>(&target);
-  if (!board || !board->IsAmbiguous()) return std::nullopt;
-  // p ↦ 2c − p in the plane: corner (i, j) onto (cols − 1 − i, rows − 1 − j).
-  const Eigen::Vector3d centre = TargetCentre(target);
-  Eigen::Isometry3d F = Eigen::Isometry3d::Identity();
-  F.linear() = Eigen::Vector3d(-1, -1, 1).asDiagonal();
-  F.translation() = Eigen::Vector3d(2 * centre.x(), 2 * centre.y(), 0);
-  return F;
-}
-
-void FlipView(const Eigen::Isometry3d& F, View* view) {
-  for (Eigen::Vector3d& p : view->p_target) p = F * p;
-  if (view->T_cam_target) view->T_cam_target = *view->T_cam_target * F;
-  view->flipped = !view->flipped;
-}
-
 void IndexUsedViews(Problem* problem) {
   for (auto& views : problem->camera_views) views.clear();
   for (size_t i = 0; i < problem->views.size(); ++i)
@@ -153,6 +135,7 @@ int RejectInconsistentMotions(Problem* problem) {
   const Eigen::Vector3d centre = TargetCentre(*problem->dataset->target);
   const double pixel_sigma_px = DetectionSigmaPx(*problem);
   const std::optional<Eigen::Isometry3d> half_turn = HalfTurnSymmetry(*problem->dataset->target);
+  if (half_turn) NumberViewsAlike(problem, *half_turn);
   for (const std::vector<int>& ids : problem->camera_views) {
     const size_t n = ids.size();
     if (n < 4) continue;  // three views: one pair against each; no majority to speak of

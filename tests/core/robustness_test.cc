@@ -127,8 +127,41 @@ TEST_CASE("A 180-degree-ambiguous board numbered half a turn round is used flipp
     CHECK(left_out == 0);
     CHECK(flipped == 2);
     bool noted = false;
-    for (const std::string& note : result.notes) noted = noted || note.find("2 views of the 180") == 0;
+    for (const std::string& note : result.notes) noted = noted || note.find("2 views of the 180°-ambiguous board were numbered half a turn round") == 0;
     CHECK(noted);
+    CHECK(MeanPositionErrorMm(result, scene.truth) < 2.0);
+  }
+}
+
+TEST_CASE("A 180-degree-ambiguous board numbered either way in many views, a whole camera turned: all numbered alike",
+          "[calibration][robust][flipped]") {
+  // As a detector numbers views of such a board seen at many orientations:
+  // every view of cam1 and every third view of the others half a turn round,
+  // so no camera's views have one numbering for most of them and cam1's
+  // agree among themselves but not with the other cameras'.
+  const auto board = std::make_shared<const CheckerboardTarget>(7, 5, 0.04);
+  const int n = static_cast<int>(board->Points().size());
+  for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
+    INFO(SetupName(setup));
+    SyntheticScene scene = Scene(setup, 16, 6, 0.2, 0.02, 0, "medium", 0.1, board);
+    std::set<std::pair<std::string, std::string>> turned;
+    for (size_t i = 0; i < scene.dataset.observations.size(); ++i) {
+      Observation& obs = scene.dataset.observations[i];
+      if ((obs.camera == "cam1") == (i % 3 == 0)) continue;
+      for (int& id : obs.ids) id = n - 1 - id;
+      turned.insert({obs.pose_id, obs.camera});
+    }
+    const CalibrationResult result = Calibrate(scene.dataset, CalibrationOptions());
+    int left_out = 0, as_turned = 0;
+    for (const ViewResult& view : result.views) {
+      left_out += view.used ? 0 : 1;
+      as_turned += view.flipped == (turned.count({view.pose_id, view.camera}) == 1) ? 1 : 0;
+    }
+    INFO(turned.size() << " of " << result.views.size() << " views turned");
+    CHECK(left_out == 0);
+    // Flipped exactly where turned, or (the board's numbering being a
+    // convention) exactly where not.
+    CHECK((as_turned == static_cast<int>(result.views.size()) || as_turned == 0));
     CHECK(MeanPositionErrorMm(result, scene.truth) < 2.0);
   }
 }
