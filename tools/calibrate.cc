@@ -154,6 +154,7 @@ void RunCalibrate(const CalibrateArgs& args) {
   if (from_setup && *from_setup != dataset.setup)
     throw InputError(args.from, "/setup",
                      std::string("the dataset's setup, ") + SetupName(dataset.setup) + ", for --from");
+  std::vector<std::string> detect_warnings;
   if (dataset.observations.empty()) {
     bool has_images = false;
     for (const auto& pose : dataset.poses) has_images = has_images || !pose.images.empty();
@@ -162,7 +163,8 @@ void RunCalibrate(const CalibrateArgs& args) {
     DetectOptions detect;
     detect.threads = args.threads;
     detect.progress = ProgressLine("detecting", args.quiet);
-    DetectAll(&dataset, detect);
+    detect_warnings = DetectAll(&dataset, detect);
+    PrintWarnings(detect_warnings);
   }
   if (!args.observations_out.empty()) {
     // Before the solve, so that a calibration that fails (or is rerun with
@@ -175,6 +177,12 @@ void RunCalibrate(const CalibrateArgs& args) {
     result = Calibrate(dataset, options);
   } catch (const InputError& e) {
     throw e.file().empty() ? e.WithFile(args.input) : e;
+  } catch (const SolveError& e) {
+    // A target declared differently from the one in the images is the likely
+    // reason for too few views: say so where the failure is reported.
+    std::string why = e.what();
+    for (const std::string& warning : detect_warnings) why += "; " + warning;
+    throw SolveError(why);
   }
   result.input = args.input;
   PrintWarnings(result.warnings);

@@ -45,13 +45,14 @@ void RunDetect(const DetectArgs& args) {
   DetectOptions options;
   options.threads = args.threads;
   options.progress = ProgressLine("detecting", args.quiet);
-  DetectAll(&dataset, options);
+  const std::vector<std::string> detect_warnings = DetectAll(&dataset, options);
 
   std::map<std::string, int> found_per_camera;
   for (const auto& view : dataset.observations) ++found_per_camera[view.camera];
   for (const auto& camera : dataset.cameras)
     std::cerr << camera.name << ": " << images_per_camera[camera.name]
               << " images, target found in " << found_per_camera[camera.name] << "\n";
+  PrintWarnings(detect_warnings);
   SaveObservations(dataset, args.output);
   std::cerr << "wrote " << args.output << " (" << dataset.observations.size() << " views)\n";
 }

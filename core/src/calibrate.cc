@@ -94,6 +94,7 @@ void FillResult(const Problem& problem, const Estimate& est, CalibrationResult* 
     vr.num_points = static_cast<int>(view.p_target.size());
     vr.used = view.used;
     vr.rejected_because = view.rejected_because;
+    vr.flipped = view.flipped;
     result->views.push_back(vr);
   }
   for (size_t k = 0; k < dataset.cameras.size(); ++k) {
@@ -116,6 +117,21 @@ void FillResult(const Problem& problem, const Estimate& est, CalibrationResult* 
     result->cameras.push_back(cam);
   }
   result->T_target = est.shared_T_holder_target;
+}
+
+/// A note naming the views the robot-motion vote numbered the other way
+/// round; empty when there are none.
+std::string FlippedViewsNote(const Problem& problem) {
+  std::string list;
+  int count = 0;
+  for (const View& view : problem.views)
+    if (view.flipped)
+      list += (count++ ? ", " : "") + view.observation->pose_id + "/" + view.observation->camera;
+  if (!count) return "";
+  return std::to_string(count) + " view" + (count > 1 ? "s" : "") +
+         " of the 180°-ambiguous board were numbered half a turn round from the others (no detector "
+         "can tell); the robot's motions say so, and they were used with their ids reversed "
+         "(id -> N - 1 - id; `flipped` in the views); pose/camera: " + list;
 }
 
 /// For each camera, the groups the intrinsics check looks at: focal length
@@ -167,7 +183,11 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
       throw InputError("", "/cameras", "a camera named '" + name + "' to hold at its given pose");
 
   Problem problem = internal::BuildProblem(working, options);
-  if (options.reject_views) internal::RejectInconsistentMotions(&problem);
+  if (options.reject_views) {
+    internal::RejectInconsistentMotions(&problem);
+    if (const std::string flipped = FlippedViewsNote(problem); !flipped.empty())
+      result.notes.push_back(flipped);
+  }
   int used_views = 0;
   for (const View& view : problem.views) used_views += view.used ? 1 : 0;
   if (used_views < 3)

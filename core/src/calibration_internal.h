@@ -45,6 +45,10 @@ struct View {
   /// Excluded for being seen too obliquely (SolvePnp): the angle from
   /// face-on, deg; 0 otherwise.
   double oblique_deg = 0;
+  /// Numbered with the target turned half a turn about its normal (ids
+  /// reversed on a 180°-ambiguous board): p_target and T_cam_target hold the
+  /// turned numbering (FlipView).
+  bool flipped = false;
 };
 
 /// The dataset in the solver's terms: T_mount_holder per pose and the views.
@@ -85,8 +89,32 @@ void IndexUsedViews(Problem* problem);
 /// camera's other views, where most views agree with most, is excluded: its
 /// robot record belongs to another pose, or its image to another time (or,
 /// seen very obliquely, its pose is worse than its corners' noise says).
+/// On a 180°-ambiguous target the views are first numbered alike
+/// (NumberViewsAlike), and a view that still disagrees is numbered the other
+/// way round (FlipView): when that agrees with half of the others, it is used so.
 /// Returns the number of views excluded.
 int RejectInconsistentMotions(Problem* problem);
+
+/// The half turn F of a 180°-ambiguous target (a checkerboard with
+/// cols + rows even) about its normal through its centre, which takes point
+/// id to point N − 1 − id; nullopt for a target that has none.
+std::optional<Eigen::Isometry3d> HalfTurnSymmetry(const Target& target);
+
+/// Numbers `view` the other way round by the half turn F (HalfTurnSymmetry):
+/// every p_target becomes F · p_target (its id's partner, N − 1 − id) and
+/// T_cam_target becomes T_cam_target · F, so the pixels and the pose stay as
+/// seen; `flipped` toggles.
+void FlipView(const Eigen::Isometry3d& F, View* view);
+
+/// Numbers every used view of a 180°-ambiguous target alike, by the half
+/// turn F (HalfTurnSymmetry): within a camera, each pair of views is numbered
+/// alike when their target motion's rotation angle matches the robot's, and
+/// the other way round when it matches only with one of them turned (FlipView);
+/// the numbering that most pairs agree with is taken. Between cameras, the
+/// one under which the views of the poses two cameras share give one
+/// camera-to-camera transform. Of the two numberings of the whole set, the
+/// one that turns fewer views. Returns the number of views flipped.
+int NumberViewsAlike(Problem* problem, const Eigen::Isometry3d& F);
 
 /// Per camera: the T_holder_target its views use (joint: the shared one for every camera).
 using TargetPoses = std::vector<Eigen::Isometry3d>;

@@ -11,7 +11,7 @@ namespace handeye {
 CharucoTarget::CharucoTarget(const TargetSpec& spec, MarkerCodebook dictionary)
     : spec_(spec), dictionary_(std::move(dictionary)) {
   spec.RejectUnknownKeys(
-      {"squares", "square_size_m", "marker_size_m", "dictionary", "min_corners"});
+      {"squares", "square_size_m", "marker_size_m", "dictionary", "min_corners", "layout"});
   const auto squares = spec.GetIntPair("squares", 2);
   squares_x_ = squares[0];
   squares_y_ = squares[1];
@@ -30,12 +30,23 @@ CharucoTarget::CharucoTarget(const TargetSpec& spec, MarkerCodebook dictionary)
         "expected the code book of dictionary '" + name + "', got '" + dictionary_.name + "'");
   if (spec.Has("min_corners")) spec.GetInt("min_corners", 4);
   margin_m_ = 0.5 * (square_m_ - marker_m_);
+  const std::string layout = spec.GetString("layout", "opencv");
+  if (layout != "opencv" && layout != "legacy")
+    throw InputError(
+        "", "/layout",
+        "expected \"opencv\" (OpenCV 4.6 and later, the default) or \"legacy\" (boards "
+        "printed by OpenCV before 4.6); got '" +
+            layout + "'");
+  legacy_ = layout == "legacy";
+  // Before OpenCV 4.6 the board was laid out from its bottom-left square,
+  // which was black: with an even number of rows the top-left one is white.
+  const int black_parity = legacy_ && squares_y_ % 2 == 0 ? 1 : 0;
 
   // Markers fill the white squares row by row, as CharucoBoard::create does.
   square_marker_.assign(static_cast<std::size_t>(squares_x_) * squares_y_, -1);
   for (int b = 0; b < squares_y_; ++b) {
     for (int a = 0; a < squares_x_; ++a) {
-      if ((a + b) % 2 == 0) continue;
+      if ((a + b) % 2 == black_parity) continue;
       square_marker_[static_cast<std::size_t>(b) * squares_x_ + a] = NumMarkers();
       marker_square_.push_back({a, b});
     }

@@ -294,8 +294,13 @@ std::vector<std::string> Diagnose(const Dataset& dataset, const CalibrationOptio
       view.used = false;
       view.rejected_because = found->second->rejected_because;
     }
+    // Numbered as the calibration used it.
+    if (found != given.end() && found->second->flipped)
+      if (const auto half_turn = internal::HalfTurnSymmetry(*working.target))
+        internal::FlipView(*half_turn, &view);
     vr.used = view.used;
     vr.rejected_because = view.rejected_because;
+    vr.flipped = view.flipped;
     views.push_back(vr);
   }
   internal::IndexUsedViews(&problem);

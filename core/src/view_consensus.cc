@@ -90,8 +90,10 @@ struct MotionMismatch {
   double angle_noise_rad = 0, pitch_noise_m = 0;
 };
 
-MotionMismatch Compare(const Problem& problem, const View& a, const View& b) {
-  const Screw seen = ScrewOf(*a.T_cam_target * b.T_cam_target->inverse());
+/// View a, seen at T_cam_target_a, against view b.
+MotionMismatch Compare(const Problem& problem, const View& a, const Eigen::Isometry3d& T_cam_target_a,
+                       const View& b) {
+  const Screw seen = ScrewOf(T_cam_target_a * b.T_cam_target->inverse());
   const Screw moved = ScrewOf(problem.T_mount_holder[a.pose] * problem.T_mount_holder[b.pose].inverse());
   MotionMismatch m;
   m.angle_rad = std::abs(seen.angle_rad - moved.angle_rad);
@@ -132,6 +134,8 @@ int RejectInconsistentMotions(Problem* problem) {
   int rejected = 0;
   const Eigen::Vector3d centre = TargetCentre(*problem->dataset->target);
   const double pixel_sigma_px = DetectionSigmaPx(*problem);
+  const std::optional<Eigen::Isometry3d> half_turn = HalfTurnSymmetry(*problem->dataset->target);
+  if (half_turn) NumberViewsAlike(problem, *half_turn);
   for (const std::vector<int>& ids : problem->camera_views) {
     const size_t n = ids.size();
     if (n < 4) continue;  // three views: one pair against each; no majority to speak of
@@ -146,20 +150,29 @@ int RejectInconsistentMotions(Problem* problem) {
       pnp_rotation_rad[a] = std::sqrt(noise.rotation_rad2);
       pnp_position_m[a] = std::sqrt(noise.position_m2);
     }
-    // Each view against up to kMaxPartners others, spread over the camera's views.
+    // Each view against up to kMaxPartners others, spread over the camera's
+    // views; view a seen at T_a.
     const size_t partners = std::min(n - 1, kMaxPartners);
-    std::vector<std::vector<MotionMismatch>> mismatch(n);
-    std::vector<double> angles, pitches;
-    for (size_t a = 0; a < n; ++a)
+    auto mismatches = [&](size_t a, const Eigen::Isometry3d& T_a) {
+      std::vector<MotionMismatch> out;
       for (size_t i = 1; i <= partners; ++i) {
         const size_t b = (a + i * (n - 1) / partners) % n;
-        MotionMismatch m = Compare(*problem, problem->views[ids[a]], problem->views[ids[b]]);
+        MotionMismatch m = Compare(*problem, problem->views[ids[a]], T_a, problem->views[ids[b]]);
         m.angle_noise_rad = std::hypot(pnp_rotation_rad[a], pnp_rotation_rad[b]);
         m.pitch_noise_m = std::hypot(pnp_position_m[a], pnp_position_m[b]);
-        mismatch[a].push_back(m);
+        out.push_back(m);
+      }
+      return out;
+    };
+    std::vector<std::vector<MotionMismatch>> mismatch(n);
+    std::vector<double> angles, pitches;
+    for (size_t a = 0; a < n; ++a) {
+      mismatch[a] = mismatches(a, *problem->views[ids[a]].T_cam_target);
+      for (const MotionMismatch& m : mismatch[a]) {
         angles.push_back(m.angle_rad);
         if (m.pitch_m >= 0) pitches.push_back(m.pitch_m);
       }
+    }
     // Tolerances from the camera's own pairs (≈ 4σ of the typical mismatch,
     // which PnP and the robot's own errors set), with floors for noise-free
     // data; for each pair at least 4σ of what PnP's noise gives it (on a
@@ -167,21 +180,29 @@ int RejectInconsistentMotions(Problem* problem) {
     // pairs' pitch tolerance against most of the views).
     const double angle_tolerance = std::max(0.1 * kDeg, 6.0 * Median(angles));
     const double pitch_tolerance = std::max(1e-3, 6.0 * Median(pitches));
-    std::vector<double> support(n);
-    for (size_t a = 0; a < n; ++a) {
+    auto support_of = [&](const std::vector<MotionMismatch>& pairs) {
       int agree = 0;
-      for (const MotionMismatch& m : mismatch[a]) {
+      for (const MotionMismatch& m : pairs) {
         const double angle_limit = std::max(angle_tolerance, 4.0 * m.angle_noise_rad);
         const double pitch_limit = std::max(pitch_tolerance, 4.0 * m.pitch_noise_m);
         agree += m.angle_rad <= angle_limit && m.pitch_m <= pitch_limit ? 1 : 0;
       }
-      support[a] = static_cast<double>(agree) / mismatch[a].size();
-    }
+      return static_cast<double>(agree) / pairs.size();
+    };
+    std::vector<double> support(n);
+    for (size_t a = 0; a < n; ++a) support[a] = support_of(mismatch[a]);
     // Only a clear majority votes a view out.
     if (Median(support) < 0.5) continue;
     for (size_t a = 0; a < n; ++a) {
       if (support[a] >= 0.5) continue;
       View& view = problem->views[ids[a]];
+      // A 180°-ambiguous board numbered the other way round in this image
+      // (its detector cannot tell): its pose is off by the half turn, which
+      // no robot record explains. Numbered back, it agrees.
+      if (half_turn && support_of(mismatches(a, *view.T_cam_target * *half_turn)) >= 0.5) {
+        FlipView(*half_turn, &view);
+        continue;
+      }
       view.used = false;
       view.inconsistent = true;
       std::ostringstream why;

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "charuco_layout.h"
 #include "corner_refinement.h"
 #include "grid_patch.h"
 #include "handeye/core/error.h"
@@ -60,6 +61,10 @@ constexpr double kMinSquarePx = 8.0;
 /// Refinement window: radius in squares, and its cap in pixels.
 constexpr double kWindowSquares = 0.6;
 constexpr double kMaxWindowPx = 30.0;
+/// A view that fails with at least this many markers decoded is checked
+/// against other layouts than the declared one (OtherLayouts): fewer fit
+/// any layout too easily.
+constexpr std::size_t kMinMarkersToJudgeLayout = 6;
 
 }  // namespace
 
@@ -123,6 +128,9 @@ struct CharucoDetector::OpenCvState {
   cv::Ptr<cv::aruco::Dictionary> dictionary;
   cv::Ptr<cv::aruco::CharucoBoard> board;
   cv::Ptr<cv::aruco::DetectorParameters> parameters;
+  /// The layouts a print may have instead of the declared one, and what to
+  /// change in the target for each (internal::OtherLayouts).
+  std::vector<std::pair<std::shared_ptr<const CharucoTarget>, std::string>> other_layouts;
 };
 
 CharucoDetector::CharucoDetector(std::shared_ptr<const CharucoTarget> target)
@@ -140,6 +148,9 @@ CharucoDetector::CharucoDetector(std::shared_ptr<const CharucoTarget> target,
   state->board = cv::aruco::CharucoBoard::create(
       target_->squares_x(), target_->squares_y(), 1.0f,
       static_cast<float>(target_->marker_size_m() / target_->square_size_m()), state->dictionary);
+  // OpenCV 4.6 makes its own layout only; an older print's markers are moved.
+  if (target_->legacy()) internal::LayOutMarkers(*target_, state->board.get());
+  state->other_layouts = internal::OtherLayouts(*target_);
   state->parameters = cv::aruco::DetectorParameters::create();
   // Marker corners only seed the interpolation and the consistency check; the
   // chessboard corners are refined below, to X junctions.
@@ -163,14 +174,42 @@ CharucoDetector::CharucoDetector(std::shared_ptr<const CharucoTarget> target,
 CharucoDetector::~CharucoDetector() = default;
 
 std::optional<Detection> CharucoDetector::Detect(const cv::Mat& gray) const {
-  return Detect(gray, nullptr);
+  return Find(gray, nullptr, nullptr);
 }
 
 std::optional<Detection> CharucoDetector::Detect(const cv::Mat& gray,
                                                  std::vector<CharucoRejection>* rejected) const {
+  return Find(gray, rejected, nullptr);
+}
+
+std::optional<Detection> CharucoDetector::DetectOrExplain(const cv::Mat& gray,
+                                                          std::string* mismatch) const {
+  return Find(gray, nullptr, mismatch);
+}
+
+std::string CharucoDetector::LayoutMismatch(
+    const std::vector<int>& ids, const std::vector<std::vector<cv::Point2f>>& corners) const {
+  if (ids.size() < kMinMarkersToJudgeLayout) return "";
+  // The markers of a print of the declared layout fit it (but for lens
+  // distortion and misreads); a print of another layout fits that one all
+  // but wholly and the declared one in part (a legacy print of an even
+  // number of columns: every other row of markers, one square off).
+  const double declared = internal::LayoutFit(*target_, ids, corners);
+  if (declared >= 0.8) return "";
+  for (const auto& [layout, advice] : cv_->other_layouts) {
+    const double fit = internal::LayoutFit(*layout, ids, corners);
+    if (fit >= 0.8 && fit >= declared + 0.25) return advice;
+  }
+  return "";
+}
+
+std::optional<Detection> CharucoDetector::Find(const cv::Mat& gray,
+                                               std::vector<CharucoRejection>* rejected,
+                                               std::string* mismatch) const {
   if (gray.empty() || gray.type() != CV_8UC1)
     throw std::invalid_argument("CharucoDetector: expected an 8-bit single-channel image");
   if (rejected) rejected->clear();
+  if (mismatch) mismatch->clear();
   // A first stage, as for checkerboards: every inner corner of a ChArUco
   // board is an X-junction of two black squares, so a view with at least 3 x 2
   // of them holds a patch of corner grid among the saddle points, found in a
@@ -200,7 +239,12 @@ std::optional<Detection> CharucoDetector::Detect(const cv::Mat& gray,
     kept_ids.push_back(id);
     kept_corners.push_back(marker_corners[i]);
   }
-  if (kept_ids.size() < 2) return std::nullopt;
+  // No view: say so when the markers seen fit another layout.
+  auto none = [&]() -> std::optional<Detection> {
+    if (mismatch) *mismatch = LayoutMismatch(kept_ids, kept_corners);
+    return std::nullopt;
+  };
+  if (kept_ids.size() < 2) return none();
 
   std::vector<cv::Point2f> interpolated;
   std::vector<int> corner_ids;
@@ -301,13 +345,13 @@ std::optional<Detection> CharucoDetector::Detect(const cv::Mat& gray,
     found.emplace_back(id, *refined);
   }
 
-  if (static_cast<int>(found.size()) < options_.min_corners) return std::nullopt;
+  if (static_cast<int>(found.size()) < options_.min_corners) return none();
   std::sort(found.begin(), found.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });
   std::vector<Eigen::Vector2d> on_board;
   for (const auto& [id, uv] : found) on_board.push_back(target_->FindPoint(id)->p_target.head<2>());
   // Corners on one row, column or diagonal leave the pose free to turn about it.
-  if (!internal::SpansPlane(on_board, 0.5 * L)) return std::nullopt;
+  if (!internal::SpansPlane(on_board, 0.5 * L)) return none();
 
   Detection detection;
   for (const auto& [id, uv] : found) {

@@ -82,6 +82,66 @@ std::optional<int> BlackParity(const cv::Mat& gray, const Grid& g) {
   return means[0] < means[1] ? 0 : 1;
 }
 
+/// A numbering of a grid's points as the corners of a board: target corner
+/// (i, j) is grid point (m0 + m1 i + m2 j, m3 + m4 i + m5 j).
+using Map = std::array<int, 6>;
+
+cv::Point2d GridPoint(const Grid& grid, const Map& m, int i, int j) {
+  return grid.At(m[0] + m[1] * i + m[2] * j, m[3] + m[4] * i + m[5] * j);
+}
+
+/// The numbering of `grid` as a board of `cols` x `rows` inner corners that
+/// SPEC §4 gives: the printed face's handedness and the black square at
+/// corner (0, 0), whose parity among the grid's cells is `black_parity`
+/// (BlackParity); nullopt when none fits. A board of the grid's own size is
+/// numbered along its axes, a board of the transposed size (or a square one)
+/// across them.
+std::optional<Map> BestMap(const Grid& grid, int cols, int rows, int black_parity) {
+  std::vector<Map> maps;
+  const int a_end = grid.cols - 1, b_end = grid.rows - 1;
+  if (cols == grid.cols && rows == grid.rows)
+    maps = {{0, 1, 0, 0, 0, 1},
+            {a_end, -1, 0, b_end, 0, -1},
+            {a_end, -1, 0, 0, 0, 1},
+            {0, 1, 0, b_end, 0, -1}};
+  if (cols == grid.rows && rows == grid.cols) {
+    maps.push_back({0, 0, 1, 0, 1, 0});
+    maps.push_back({a_end, 0, -1, 0, 1, 0});
+    maps.push_back({0, 0, 1, b_end, -1, 0});
+    maps.push_back({a_end, 0, -1, b_end, -1, 0});
+  }
+  std::optional<Map> best;
+  double best_score = -1e9;
+  for (const Map& m : maps) {
+    // Handedness: the printed face seen from its -z side shows +x then +y
+    // turning clockwise on screen (u right, v down), i.e. cross(d_i, d_j) > 0.
+    cv::Point2d d_i(0, 0), d_j(0, 0);
+    for (int j = 0; j < rows; ++j)
+      for (int i = 0; i + 1 < cols; ++i)
+        d_i += GridPoint(grid, m, i + 1, j) - GridPoint(grid, m, i, j);
+    for (int j = 0; j + 1 < rows; ++j)
+      for (int i = 0; i < cols; ++i) d_j += GridPoint(grid, m, i, j + 1) - GridPoint(grid, m, i, j);
+    if (d_i.x * d_j.y - d_i.y * d_j.x <= 0) continue;
+    // SPEC §4: the square on the -x, -y side of corner (0, 0) is black. It
+    // touches (0, 0) diagonally to target square (0, 0), between corners
+    // (0, 0) and (1, 1), so both have one colour; square (0, 0) is an inner
+    // cell, measured between four detected corners rather than extrapolated.
+    const int a0 = m[0], b0 = m[3];
+    const int a1 = m[0] + m[1] + m[2], b1 = m[3] + m[4] + m[5];
+    const int parity = (std::min(a0, a1) + std::min(b0, b1)) % 2;
+    if (parity != black_parity) continue;
+    // Boards that look the same turned (cols + rows even) leave several maps;
+    // take the one whose i axis points most to the image's right, so views
+    // of similar orientation number the board alike.
+    const double score = d_i.x / (cv::norm(d_i) + 1e-12);
+    if (score > best_score) {
+      best_score = score;
+      best = m;
+    }
+  }
+  return best;
+}
+
 /// OpenCV's random state at the start of every detection.
 constexpr std::uint64_t kRandomState = 0x5eed;
 
@@ -93,6 +153,12 @@ CheckerboardDetector::CheckerboardDetector(std::shared_ptr<const CheckerboardTar
 }
 
 std::optional<Detection> CheckerboardDetector::Detect(const cv::Mat& gray) const {
+  return DetectOrExplain(gray, nullptr);
+}
+
+std::optional<Detection> CheckerboardDetector::DetectOrExplain(const cv::Mat& gray,
+                                                               std::string* mismatch) const {
+  if (mismatch) mismatch->clear();
   if (gray.empty() || gray.type() != CV_8UC1)
     throw std::invalid_argument("CheckerboardDetector: expected an 8-bit single-channel image");
   const int cols = target_->cols(), rows = target_->rows();
@@ -108,62 +174,28 @@ std::optional<Detection> CheckerboardDetector::Detect(const cv::Mat& gray) const
   if (!grid_or_none) return std::nullopt;
   const Grid& grid = *grid_or_none;
 
-  // Every re-indexing of the grid onto itself: target corner (i, j) is grid
-  // point map(i, j). The quarter turns exist only for square grids.
-  using Map = std::array<int, 6>;  // a = m0 + m1 i + m2 j, b = m3 + m4 i + m5 j
-  std::vector<Map> maps = {{0, 1, 0, 0, 0, 1},
-                           {cols - 1, -1, 0, rows - 1, 0, -1},
-                           {cols - 1, -1, 0, 0, 0, 1},
-                           {0, 1, 0, rows - 1, 0, -1}};
-  if (cols == rows) {
-    const int n = cols - 1;
-    maps.push_back({0, 0, 1, 0, 1, 0});
-    maps.push_back({n, 0, -1, 0, 1, 0});
-    maps.push_back({0, 0, 1, n, -1, 0});
-    maps.push_back({n, 0, -1, n, -1, 0});
-  }
-  auto grid_point = [&grid](const Map& m, int i, int j) {
-    return grid.At(m[0] + m[1] * i + m[2] * j, m[3] + m[4] * i + m[5] * j);
-  };
-
   const std::optional<int> black_parity = BlackParity(gray, grid);
   if (!black_parity) return std::nullopt;
-  const Map* best = nullptr;
-  double best_score = -1e9;
-  for (const Map& m : maps) {
-    // Handedness: the printed face seen from its -z side shows +x then +y
-    // turning clockwise on screen (u right, v down), i.e. cross(d_i, d_j) > 0.
-    cv::Point2d d_i(0, 0), d_j(0, 0);
-    for (int j = 0; j < rows; ++j)
-      for (int i = 0; i + 1 < cols; ++i) d_i += grid_point(m, i + 1, j) - grid_point(m, i, j);
-    for (int j = 0; j + 1 < rows; ++j)
-      for (int i = 0; i < cols; ++i) d_j += grid_point(m, i, j + 1) - grid_point(m, i, j);
-    if (d_i.x * d_j.y - d_i.y * d_j.x <= 0) continue;
-    // SPEC §4: the square on the -x, -y side of corner (0, 0) is black. It
-    // touches (0, 0) diagonally to target square (0, 0), between corners
-    // (0, 0) and (1, 1), so both have one colour; square (0, 0) is an inner
-    // cell, measured between four detected corners rather than extrapolated.
-    const int a0 = m[0], b0 = m[3];
-    const int a1 = m[0] + m[1] + m[2], b1 = m[3] + m[4] + m[5];
-    const int parity = (std::min(a0, a1) + std::min(b0, b1)) % 2;
-    if (parity != *black_parity) continue;
-    // Boards that look the same turned (cols + rows even) leave several maps;
-    // take the one whose i axis points most to the image's right, so views
-    // of similar orientation number the board alike.
-    const double score = d_i.x / (cv::norm(d_i) + 1e-12);
-    if (score > best_score) {
-      best_score = score;
-      best = &m;
-    }
+  const std::optional<Map> best = BestMap(grid, cols, rows, *black_parity);
+  if (!best) {
+    // cols and rows both odd: a board of rows x cols inner corners (the same
+    // squares turned a quarter) has white squares where the declared one has
+    // its black outer corner squares, so it fits no numbering of the declared
+    // size. Grids of either orientation are searched, so that board is found.
+    if (mismatch && cols != rows && BestMap(grid, rows, cols, *black_parity))
+      *mismatch = "the board in the images has " + std::to_string(rows) + "x" +
+                  std::to_string(cols) + " inner corners; the target declares inner_corners [" +
+                  std::to_string(cols) + ", " + std::to_string(rows) + "]: swap it to [" +
+                  std::to_string(rows) + ", " + std::to_string(cols) + "]";
+    return std::nullopt;
   }
-  if (!best) return std::nullopt;
 
   Detection detection;
   detection.ids.reserve(cols * rows);
   detection.points_px.reserve(cols * rows);
   for (int j = 0; j < rows; ++j) {
     for (int i = 0; i < cols; ++i) {
-      const cv::Point2d p = grid_point(*best, i, j);
+      const cv::Point2d p = GridPoint(grid, *best, i, j);
       detection.ids.push_back(j * cols + i);
       detection.points_px.emplace_back(p.x, p.y);
     }

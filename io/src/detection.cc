@@ -2,6 +2,7 @@
 #include "handeye/io/detection.h"
 
 #include <algorithm>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <vector>
@@ -21,9 +22,23 @@ struct ImageTask {
   const std::string* path = nullptr;
 };
 
+/// One warning per distinct declaration mismatch, with how many of the
+/// `not_found` images without a detection showed it.
+std::vector<std::string> MismatchWarnings(const std::vector<std::string>& mismatch,
+                                          std::size_t not_found) {
+  std::map<std::string, std::size_t> images;
+  for (const std::string& m : mismatch)
+    if (!m.empty()) ++images[m];
+  std::vector<std::string> warnings;
+  for (const auto& [m, count] : images)
+    warnings.push_back("target: " + m + " (seen in " + std::to_string(count) + " of the " +
+                       std::to_string(not_found) + " images where the target was not found)");
+  return warnings;
+}
+
 }  // namespace
 
-void DetectAll(Dataset* dataset, const DetectOptions& options) {
+std::vector<std::string> DetectAll(Dataset* dataset, const DetectOptions& options) {
   if (!dataset) throw std::invalid_argument("DetectAll: null dataset");
   if (!dataset->target) throw std::invalid_argument("DetectAll: dataset without a target");
   if (options.threads < 0)
@@ -47,6 +62,7 @@ void DetectAll(Dataset* dataset, const DetectOptions& options) {
 
   const std::unique_ptr<Detector> detector = MakeDetector(dataset->target);
   std::vector<std::optional<Detection>> found(tasks.size());
+  std::vector<std::string> mismatch(tasks.size());
 
   // One image per worker in memory at a time: datasets may hold thousands of
   // full-resolution images.
@@ -54,7 +70,8 @@ void DetectAll(Dataset* dataset, const DetectOptions& options) {
       tasks.size(), options.threads,
       [&](std::size_t i) {
         const ImageTask& task = tasks[i];
-        found[i] = detector->Detect(LoadGrayImage(*task.path, dataset->cameras[task.camera]));
+        found[i] = detector->DetectOrExplain(
+            LoadGrayImage(*task.path, dataset->cameras[task.camera]), &mismatch[i]);
       },
       options.progress);
 
@@ -73,6 +90,7 @@ void DetectAll(Dataset* dataset, const DetectOptions& options) {
                              *tasks[i].path);
     dataset->observations.push_back(std::move(view));
   }
+  return MismatchWarnings(mismatch, tasks.size() - dataset->observations.size());
 }
 
 }  // namespace handeye

@@ -250,6 +250,7 @@ std::string ResultJson(const CalibrationResult& result) {
     entry["rms_px"] = v.rms_px;
     entry["max_px"] = v.max_px;
     entry["outlier"] = v.outlier;
+    if (v.flipped) entry["flipped"] = true;
     views.push_back(entry);
   }
   root["views"] = views;
@@ -350,6 +351,7 @@ CalibrationResult LoadResult(const std::string& path) {
       vr.rms_px = v.Key("rms_px").Number();
       vr.max_px = v.Key("max_px").Number();
       vr.outlier = ReadBool(v.Key("outlier"));
+      if (v.Has("flipped")) vr.flipped = ReadBool(v.Key("flipped"));
       result.views.push_back(vr);
     }
   }

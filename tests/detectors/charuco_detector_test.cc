@@ -28,16 +28,6 @@ TargetSpec BoardSpec(int sx = 7, int sy = 5, const std::string& dictionary = "DI
   return spec;
 }
 
-/// The two markers' corners that identify a ChArUco corner.
-test::IdentifyingCorners MarkersOf(const CharucoTarget& board) {
-  return [&board](int id) {
-    std::vector<Eigen::Vector3d> corners;
-    for (int marker : board.MarkersAtCorner(id))
-      for (const auto& p : board.MarkerCorners(marker)) corners.push_back(p);
-    return corners;
-  };
-}
-
 test::ViewSampling Sampling(double min_px, double max_px) {
   test::ViewSampling sampling;
   sampling.feature_m = kMarkerM;
@@ -148,8 +138,8 @@ TEST_CASE("charuco corners at 1280x720 and 1920x1080: >= 99 % found, mean error 
     INFO(width << "x" << height);
     const Camera camera = test::PinholeCamera(width, height, 0.714 * width);
     const test::Score score =
-        test::RenderAndScore(camera, *board, detector, MarkersOf(*board), Sampling(20, 40), render,
-                             12, width, kBorderPx, kWrongPx, 8);
+        test::RenderAndScore(camera, *board, detector, test::CharucoMarkers(*board),
+                             Sampling(20, 40), render, 12, width, kBorderPx, kWrongPx, 8);
     INFO(score.Summary());
     CHECK(score.expected > 100);
     CHECK(score.Rate() >= 0.99);
@@ -177,7 +167,8 @@ TEST_CASE("charuco partial views: half the board outside the image, ids still ri
     REQUIRE(detection);
     CHECK(detection->ids.size() >= 12);
     CHECK(detection->ids.size() <= board->Points().size() / 2 + 9);
-    test::ScoreView(camera, *board, T, MarkersOf(*board), detection, 20, kBorderPx, 0.5, 8, &score);
+    test::ScoreView(camera, *board, T, test::CharucoMarkers(*board), detection, 20, kBorderPx, 0.5,
+                    8, &score);
   }
   INFO(score.Summary());
   CHECK(score.wrong == 0);  // every id within 0.5 px of its true corner
@@ -192,8 +183,8 @@ TEST_CASE("charuco: no wrong ids over 200 rendered 640x480 views", "[charuco][id
   sampling.max_tilt_deg = 60;
   sampling.centre_beyond_border = 0.3;
   const test::Score score =
-      test::RenderAndScore(camera, *board, detector, MarkersOf(*board), sampling, RenderOptions(),
-                           200, 2024, kBorderPx, kWrongPx, 8);
+      test::RenderAndScore(camera, *board, detector, test::CharucoMarkers(*board), sampling,
+                           RenderOptions(), 200, 2024, kBorderPx, kWrongPx, 8);
   INFO(score.Summary());
   CHECK(score.views_detected >= 40);
   CHECK(score.found >= 400);
@@ -223,7 +214,8 @@ TEST_CASE("charuco: corners next to misplaced markers fail the local homography 
     std::vector<CharucoRejection> rejected;
     const auto detection = detector.Detect(RenderView(camera, misprint, T, render), &rejected);
     for (const auto& r : rejected) rejected_homography += r.reason == "homography";
-    test::ScoreView(camera, *board, T, MarkersOf(*board), detection, 20, kBorderPx, 1.0, 8, &score);
+    test::ScoreView(camera, *board, T, test::CharucoMarkers(*board), detection, 20, kBorderPx, 1.0,
+                    8, &score);
   }
   INFO(score.Summary());
   CHECK(rejected_homography >= 4);

@@ -178,3 +178,56 @@ TEST_CASE("Ambiguous checkerboards warn and are numbered up to their symmetry", 
     }
   }
 }
+
+TEST_CASE("A board declared the wrong way round is named with the size to declare",
+          "[checkerboard][transposed]") {
+  // An 11 x 9 board declared [9, 11]: cols and rows both odd, so the declared
+  // board's black outer corner squares are white in the images and no
+  // numbering of the declared size fits. Turned boards and a second seed.
+  const Camera camera = MakeTestCamera(640, 480, 640.0, MildDistortion());
+  auto board = std::make_shared<const CheckerboardTarget>(11, 9, 0.025);
+  const auto declared = MakeDetector(std::make_shared<const CheckerboardTarget>(9, 11, 0.025));
+  const auto right = MakeDetector(board);
+  int seed = 40;
+  for (double in_plane_deg : {10.0, 100.0, 190.0}) {
+    INFO("board turned " << in_plane_deg << " deg in plane");
+    const Eigen::Isometry3d T_cam_target =
+        BoardPose(*board, 0.6, in_plane_deg * M_PI / 180, 0.3, {1, 0.4}, {0.01, 0.0});
+    RenderOptions options;
+    options.seed = ++seed;
+    const cv::Mat image = RenderView(camera, *board, T_cam_target, options);
+    std::string mismatch = "stale";
+    CHECK_FALSE(declared->DetectOrExplain(image, &mismatch));
+    CHECK(mismatch ==
+          "the board in the images has 11x9 inner corners; the target declares inner_corners "
+          "[9, 11]: swap it to [11, 9]");
+    // The board declared as it is printed: found, nothing to explain.
+    const auto detection = right->DetectOrExplain(image, &mismatch);
+    REQUIRE(detection);
+    double best = INFINITY;  // cols + rows even: numbered up to the half turn
+    for (const auto& relabel : Symmetries(11, 9))
+      best =
+          std::min(best, WorstError(*detection, TruePixels(camera, *board, T_cam_target), relabel));
+    CHECK(best < 0.3);
+    CHECK(mismatch.empty());
+  }
+}
+
+TEST_CASE("A transposed declaration with an even side reads the board turned, with no mismatch",
+          "[checkerboard][transposed]") {
+  // 6 x 5 declared [5, 6]: the board turned a quarter has a black square at
+  // its new corner (0, 0), so it is the declared board seen turned, and the
+  // calibration is unaffected (its target frame is an unknown).
+  const Camera camera = MakeTestCamera(640, 480, 640.0, MildDistortion());
+  auto board = std::make_shared<const CheckerboardTarget>(6, 5, 0.04);
+  const auto declared = MakeDetector(std::make_shared<const CheckerboardTarget>(5, 6, 0.04));
+  const Eigen::Isometry3d T_cam_target = BoardPose(*board, 0.7, 0.2, 0.3, {1, 0.5}, {0.0, 0.01});
+  RenderOptions options;
+  options.seed = 50;
+  std::string mismatch = "stale";
+  const auto detection =
+      declared->DetectOrExplain(RenderView(camera, *board, T_cam_target, options), &mismatch);
+  REQUIRE(detection);
+  CHECK(detection->ids.size() == 30);
+  CHECK(mismatch.empty());
+}

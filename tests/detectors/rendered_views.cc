@@ -51,6 +51,15 @@ Eigen::Isometry3d ViewAt(const Camera& camera, const Target& target, double u, d
   return T;
 }
 
+IdentifyingCorners CharucoMarkers(const CharucoTarget& board) {
+  return [&board](int id) {
+    std::vector<Eigen::Vector3d> corners;
+    for (int marker : board.MarkersAtCorner(id))
+      for (const auto& p : board.MarkerCorners(marker)) corners.push_back(p);
+    return corners;
+  };
+}
+
 double Score::MeanError() const {
   if (errors_px.empty()) return 0.0;
   double sum = 0;

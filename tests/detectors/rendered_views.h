@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "handeye/core/camera.h"
+#include "handeye/core/charuco.h"
 #include "handeye/core/target.h"
 #include "handeye/detectors/detector.h"
 #include "handeye/sim/render.h"
@@ -46,6 +47,9 @@ Eigen::Isometry3d RandomView(const Camera& camera, const Target& target,
 /// `tilt_rad` about the camera's x axis.
 Eigen::Isometry3d ViewAt(const Camera& camera, const Target& target, double u, double v,
                          double distance_m, double spin_rad, double tilt_rad);
+
+/// A ChArUco corner is identified by the corners of its two markers.
+IdentifyingCorners CharucoMarkers(const CharucoTarget& board);
 
 /// Tallies over views.
 struct Score {

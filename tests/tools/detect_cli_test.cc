@@ -15,11 +15,15 @@ namespace {
 using Catch::Matchers::Contains;
 
 // A dataset with one camera and three poses: two board images and one blank.
-std::string WriteSmallDataset(const std::string& dir) {
+// The board drawn has `cols` x `rows` inner corners; the dataset declares
+// `declared` (default: the same).
+std::string WriteSmallDataset(const std::string& dir, int cols = 5, int rows = 4,
+                              std::vector<double> declared = {}) {
   Dataset d;
   TargetSpec spec;
   spec.type = "checkerboard";
-  spec.values["inner_corners"] = std::vector<double>{5, 4};
+  if (declared.empty()) declared = {double(cols), double(rows)};
+  spec.values["inner_corners"] = declared;
   spec.values["square_size_m"] = 0.03;
   d.target = MakeTarget(spec);
   std::string why;
@@ -31,7 +35,7 @@ std::string WriteSmallDataset(const std::string& dir) {
     pose.images["camA"] = dir + "/images/" + pose.id + ".png";
     test::WriteText(pose.images["camA"], "");
     const cv::Mat image = p == 1 ? cv::Mat(200, 240, CV_8UC1, cv::Scalar(128))
-                                 : test::DrawBoard(5, 4, 24, 40 + 10 * p, 50, 240, 200);
+                                 : test::DrawBoard(cols, rows, 24, 40 + 10 * p, 50, 240, 200);
     REQUIRE(cv::imwrite(pose.images["camA"], image));
     d.poses.push_back(pose);
   }
@@ -51,6 +55,22 @@ TEST_CASE("handeye detect writes observations and a per-camera summary", "[tools
   CHECK(obs.observations[0].pose_id == "p0");
   CHECK(obs.observations[1].pose_id == "p2");
   CHECK(obs.observations[0].ids.size() == 20);
+}
+
+TEST_CASE("A board declared the wrong way round: detect warns, calibrate's exit 3 says what to swap",
+          "[tools][detect][transposed]") {
+  // 5 x 3 inner corners drawn, [3, 5] declared: found in no image today.
+  const std::string dir = test::TempDir("cli_detect_transposed");
+  const std::string dataset = WriteSmallDataset(dir, 5, 3, {3, 5});
+  const std::string hint =
+      "target: the board in the images has 5x3 inner corners; the target declares inner_corners "
+      "[3, 5]: swap it to [5, 3] (seen in 2 of the 3 images where the target was not found)";
+  std::string out;
+  REQUIRE(test::RunHandeye("detect '" + dataset + "' -o '" + dir + "/obs.json' --threads 1", &out) == 0);
+  CHECK_THAT(out, Contains("camA: 3 images, target found in 0"));
+  CHECK_THAT(out, Contains("warning: " + hint));
+  CHECK(test::RunHandeye("calibrate '" + dataset + "' -o '" + dir + "/result.json' --threads 1", &out) == 3);
+  CHECK_THAT(out, Contains("0 usable views of the target; take at least 3") && Contains("; " + hint));
 }
 
 TEST_CASE("handeye detect shows progress on a terminal only, and not with --quiet",

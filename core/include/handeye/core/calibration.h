@@ -157,6 +157,11 @@ struct ViewResult {
   double max_px = 0;            ///< largest point error of the view, pixels
   /// Down-weighted by the robust loss: RMS above 3 Cauchy scales.
   bool outlier = false;
+  /// Its corners were numbered with a 180°-ambiguous board turned half a turn
+  /// (cols + rows even: no detector can tell); the robot-motion vote found the
+  /// view fits only numbered the other way round (id → N − 1 − id), and the
+  /// solve used it so.
+  bool flipped = false;
 };
 
 /// How well a pose is known (1σ), from the covariance of the solution scaled

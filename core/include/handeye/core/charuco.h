@@ -24,6 +24,13 @@ namespace handeye {
 /// ((x+1)·L, (y+1)·L, 0). The sheet adds a white margin of (L − m)/2, the
 /// markers' own quiet zone, around the sx × sy squares.
 ///
+/// `layout` "legacy" (default "opencv"): a board printed by OpenCV before 4.6
+/// (OpenCV 4.7's setLegacyPattern(true)). Those boards were laid out from a
+/// black bottom-left square, so with sy even square (0, 0) is white: square
+/// (a, b) is black when a + b is odd, markers fill the white squares in the
+/// same row-major order, and corner ids and positions are as above. With sy
+/// odd the two layouts are the same board.
+///
 /// Optional key read by the detector, accepted here: `min_corners`.
 class CharucoTarget : public Target {
  public:
@@ -46,6 +53,8 @@ class CharucoTarget : public Target {
   double square_size_m() const { return square_m_; }
   double marker_size_m() const { return marker_m_; }
   const MarkerCodebook& dictionary() const { return dictionary_; }
+  /// `layout` "legacy": laid out as OpenCV before 4.6 printed the board.
+  bool legacy() const { return legacy_; }
   /// Markers on the board: one per white square, ids 0 .. NumMarkers()-1.
   int NumMarkers() const { return static_cast<int>(marker_square_.size()); }
   /// Marker id in square (a, b); -1 for a black square or outside the board.
@@ -62,6 +71,7 @@ class CharucoTarget : public Target {
   MarkerCodebook dictionary_;
   int squares_x_ = 0, squares_y_ = 0;
   double square_m_ = 0, marker_m_ = 0, margin_m_ = 0;
+  bool legacy_ = false;
   std::vector<TargetPoint> points_;
   std::vector<int> square_marker_;                 ///< per square, row-major; -1 black
   std::vector<std::array<int, 2>> marker_square_;  ///< per marker: (a, b)

@@ -69,8 +69,21 @@ class CharucoDetector : public Detector {
   /// Detect(), also listing the interpolated corners that were left out.
   std::optional<Detection> Detect(const cv::Mat& gray,
                                   std::vector<CharucoRejection>* rejected) const;
+  /// Detect(); a view that fails although six or more of the board's markers
+  /// were decoded is checked against the other layouts a print may have (the
+  /// other of OpenCV's layouts where sy is even, the squares transposed): when
+  /// the markers fit one of them and not the declared one, `*mismatch` says
+  /// what to change in the target.
+  std::optional<Detection> DetectOrExplain(const cv::Mat& gray,
+                                           std::string* mismatch) const override;
 
  private:
+  std::optional<Detection> Find(const cv::Mat& gray, std::vector<CharucoRejection>* rejected,
+                                std::string* mismatch) const;
+  /// What to change in the target when markers `ids` seen at `corners` fit
+  /// another layout and not the declared one; empty otherwise.
+  std::string LayoutMismatch(const std::vector<int>& ids,
+                             const std::vector<std::vector<cv::Point2f>>& corners) const;
   struct OpenCvState;
   std::shared_ptr<const CharucoTarget> target_;
   Options options_;

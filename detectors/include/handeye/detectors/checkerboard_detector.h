@@ -18,6 +18,12 @@ class CheckerboardDetector : public Detector {
   explicit CheckerboardDetector(std::shared_ptr<const CheckerboardTarget> target);
   /// Every inner corner, or nullopt when the whole board is not found.
   std::optional<Detection> Detect(const cv::Mat& gray) const override;
+  /// Detect(); a board found whose squares' colours fit only the transposed
+  /// size (the images show rows x cols inner corners, cols and rows both odd:
+  /// the one case where the declared board's colours cannot fit) names the
+  /// size to declare.
+  std::optional<Detection> DetectOrExplain(const cv::Mat& gray,
+                                           std::string* mismatch) const override;
 
  private:
   std::shared_ptr<const CheckerboardTarget> target_;

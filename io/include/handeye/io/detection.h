@@ -5,6 +5,8 @@
 
 #include <cstddef>
 #include <functional>
+#include <string>
+#include <vector>
 
 #include "handeye/core/dataset.h"
 
@@ -22,6 +24,9 @@ struct DetectOptions {
 /// images (at most one per thread in memory), and replaces
 /// dataset->observations with what was found, in pose then camera order.
 /// Throws InputError for an image that is missing, unreadable or of the wrong size.
-void DetectAll(Dataset* dataset, const DetectOptions& options = {});
+/// Returns warnings for the user: images where the detector saw the target
+/// declared differently (Detector::DetectOrExplain), one warning per
+/// difference, with how many images showed it.
+std::vector<std::string> DetectAll(Dataset* dataset, const DetectOptions& options = {});
 
 }  // namespace handeye
