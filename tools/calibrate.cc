@@ -18,6 +18,7 @@
 #include "handeye/core/setup_frames.h"
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/detection.h"
+#include "handeye/io/repeated_images.h"
 #include "handeye/io/result_json.h"
 #include "handeye/report/report.h"
 
@@ -149,6 +150,7 @@ void RunCalibrate(const CalibrateArgs& args) {
     DetectOptions detect;
     detect.threads = args.threads;
     detect.progress = ProgressLine("detecting", args.quiet);
+    PrintWarnings(RepeatedImageWarnings(dataset));
     DetectAll(&dataset, detect);
   }
   if (!args.observations_out.empty()) {

@@ -11,6 +11,7 @@
 #include "handeye/core/error.h"
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/detection.h"
+#include "handeye/io/repeated_images.h"
 
 namespace handeye::tools {
 namespace {
@@ -49,6 +50,7 @@ void RunDetect(const DetectArgs& args) {
   DetectOptions options;
   options.threads = args.threads;
   options.progress = ProgressLine("detecting", args.quiet);
+  PrintWarnings(RepeatedImageWarnings(dataset));
   DetectAll(&dataset, options);
 
   std::map<std::string, int> found_per_camera;

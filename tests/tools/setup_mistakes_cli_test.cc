@@ -62,4 +62,6 @@ TEST_CASE("calibrate names setup mistakes on a rendered cell, exit 3; --accept-s
         3);
   CHECK(out.find("the same image under different robot poses") != std::string::npos);
   CHECK(out.find("all listing the image file") != std::string::npos);
+  // Named before detection, by file.
+  CHECK(out.find("are one file") != std::string::npos);
 }
