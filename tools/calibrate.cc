@@ -17,6 +17,7 @@
 #include "handeye/core/setup_frames.h"
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/detection.h"
+#include "handeye/io/repeated_images.h"
 #include "handeye/io/result_json.h"
 #include "handeye/report/report.h"
 #include "report_folder.h"
@@ -42,6 +43,7 @@ struct CalibrateArgs {
   std::string keep_cameras;       // --keep-cameras LIST
   bool cross_validate = false;
   bool no_closed_form = false;
+  bool accept_setup = false;  // --accept-setup: no setup-mistake checks
   std::string observations_out;  // --observations-out FILE
 };
 
@@ -108,6 +110,7 @@ void RunCalibrate(const CalibrateArgs& args) {
   options.compare_closed_form = !args.no_closed_form;
   options.reject_views = !args.keep_all_views;
   CheckRobotSigmas(args);
+  options.check_setup = !args.accept_setup;
   options.robot_sigma_mm = args.robot_sigma_mm;
   options.robot_sigma_deg = args.robot_sigma_deg;
   if (!args.refine_intrinsics.empty()) {
@@ -163,6 +166,7 @@ void RunCalibrate(const CalibrateArgs& args) {
     DetectOptions detect;
     detect.threads = args.threads;
     detect.progress = ProgressLine("detecting", args.quiet);
+    PrintWarnings(RepeatedImageWarnings(dataset));
     detect_warnings = DetectAll(&dataset, detect);
     PrintWarnings(detect_warnings);
   }
@@ -237,6 +241,10 @@ void RegisterCalibrate(CLI::App& app) {
   cmd->add_flag("--cross-validate", args->cross_validate,
                 "joint: leave each robot pose out in turn, solve again and predict its views: held-out RMS "
                 "and the spread of each camera's pose over the folds (one solve per pose)");
+  cmd->add_flag("--accept-setup", args->accept_setup,
+                "take the data as they are: no check for the usual setup mistakes (poses inverted, "
+                "transposed, in another unit or order, the target's size off, images repeated) and no "
+                "limit on the robot error estimated");
   cmd->add_flag("--no-cross-terms", args->no_cross_terms, "joint: leave out the camera-to-camera terms");
   cmd->add_flag("--no-closed-form", args->no_closed_form,
                 "skip the comparison of each camera with a per-camera closed-form solution");

@@ -10,6 +10,7 @@
 #include "handeye/core/error.h"
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/detection.h"
+#include "handeye/io/repeated_images.h"
 #include "output_paths.h"
 
 namespace handeye::tools {
@@ -45,6 +46,7 @@ void RunDetect(const DetectArgs& args) {
   DetectOptions options;
   options.threads = args.threads;
   options.progress = ProgressLine("detecting", args.quiet);
+  PrintWarnings(RepeatedImageWarnings(dataset));
   const std::vector<std::string> detect_warnings = DetectAll(&dataset, options);
 
   std::map<std::string, int> found_per_camera;

@@ -11,6 +11,7 @@
 
 #include "calibration_internal.h"
 #include "diagnostics_internal.h"
+#include "setup_mistakes.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
 
@@ -183,6 +184,12 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
       throw InputError("", "/cameras", "a camera named '" + name + "' to hold at its given pose");
 
   Problem problem = internal::BuildProblem(working, options);
+  if (options.check_setup) {
+    internal::LeaveOutRepeatedViews(&problem);
+    result.notes.push_back(internal::CheckSetupMistakes(problem));
+  } else {
+    result.notes.push_back("the setup checks were skipped: the data were taken as they are (--accept-setup)");
+  }
   if (options.reject_views) {
     internal::RejectInconsistentMotions(&problem);
     if (const std::string flipped = FlippedViewsNote(problem); !flipped.empty())
@@ -303,6 +310,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
       round.cauchy_scale_px = refined.summary.cauchy_scale_px;
       internal::SettleRobotSigma(problem, init, refined, round, &*robot);
     }
+    if (robot && options.robot_sigma_mm < 0 && options.check_setup) internal::CheckRobotSigma(*robot);
     robot_model = robot;
     if (robot) {
       result.solver.robot_sigma_mm = robot->sigma_m * 1000.0;

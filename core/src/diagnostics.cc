@@ -16,9 +16,6 @@
 #include "handeye/core/transform.h"
 
 namespace handeye::internal {
-namespace {
-
-constexpr double kRadToDeg = 180.0 / M_PI;
 
 std::string Fixed(double value, int decimals) {
   std::ostringstream out;
@@ -27,6 +24,10 @@ std::string Fixed(double value, int decimals) {
   out << value;
   return out.str();
 }
+
+namespace {
+
+constexpr double kRadToDeg = 180.0 / M_PI;
 
 // The closed form a result is compared with: Park & Martin, or Tsai & Lenz
 // for a result that is Park's own (both OpenCV's; ViSP would print).

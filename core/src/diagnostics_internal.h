@@ -10,6 +10,9 @@
 
 namespace handeye::internal {
 
+/// `value` with `decimals` digits after the point, for messages.
+std::string Fixed(double value, int decimals);
+
 /// Relative robot rotations of more than this many degrees have an axis the
 /// diversity checks use; below it the axis is noise-dominated.
 constexpr double kMotionAxisMinDeg = 2.0;

@@ -113,6 +113,13 @@ struct CalibrationOptions {
   /// motions that no other view of the camera agrees with (before the solve),
   /// and views far outside the robust residual distribution after it.
   bool reject_views = true;
+  /// Look for the usual setup mistakes before the solve (robot poses inverted
+  /// or in another order or unit, rotations transposed, the setup swapped,
+  /// the target's size off, images repeated or shifted against the poses) and,
+  /// after it, a robot error larger than any real robot's: each is a SolveError
+  /// that names the mistake and its fix. False (`--accept-setup`): the data
+  /// are taken as they are.
+  bool check_setup = true;
   int max_iterations = 200;
   /// The solve has converged when no camera, target or pair pose moves by
   /// more than these in an iteration (or Ceres' own tolerances are met).
