@@ -10,6 +10,7 @@
 
 #include "dataset_json_internal.h"
 #include "handeye/core/error.h"
+#include "handeye/core/input_limits.h"
 #include "handeye/detectors/registry.h"
 #include "handeye/io/atomic_file.h"
 #include "handeye/io/intrinsics_files.h"
@@ -139,6 +140,9 @@ Camera ReadCamera(const JsonReader& r) {
     width = file_width;
     height = file_height;
   }
+  // Checked here, before detect decodes a single image of this size.
+  const JsonReader size_source = size.present() ? size : r.Key("intrinsics_file");
+  RequireImagePixelsWithinLimit(width, height, size_source.file(), size_source.path());
   if (from_file) {
     std::string why;
     const auto camera = Camera::Make(name, width, height, from_file->fx, from_file->fy, from_file->cx, from_file->cy,

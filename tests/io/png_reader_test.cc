@@ -293,4 +293,17 @@ TEST_CASE("LoadGrayImage reads PNG with libspng and the rest with OpenCV", "[png
   CHECK_THAT(LoadError(dir + "/real.tiff", other), Contains("image is 37x23 but camera 'cam' has image_size [40, 23]"));
 }
 
+TEST_CASE("An image larger than HANDEYE_MAX_IMAGE_PIXELS is refused before it is read", "[png][bad][limits]") {
+  unsetenv("HANDEYE_MAX_IMAGE_PIXELS");
+  const std::string dir = test::TempDir("png_reader_cap");
+  // A camera that declares 65536 x 65536 and a PNG whose header says the
+  // same: before, the decoder set aside 4 GB for it (9.5 GB through detect).
+  Camera huge = SmallCamera();
+  huge.width = huge.height = 65536;
+  const std::string path = dir + "/huge.png";
+  WriteBytes(path, EncodePng(37, 23, 1, RandomPixels(37 * 23, 4), 0, 65536, 65536));
+  CHECK_THAT(LoadError(path, huge), Contains(path + ": 65536 x 65536 = 4294967296 pixels; expected at most "
+                                                    "200000000 per image (set HANDEYE_MAX_IMAGE_PIXELS"));
+}
+
 }  // namespace handeye
