@@ -20,6 +20,8 @@
 namespace handeye {
 namespace {
 
+using Fail = std::function<InputError(const std::string&)>;
+
 // --- CSV -------------------------------------------------------------------------
 
 struct CsvForm {
@@ -105,7 +107,7 @@ std::string KnownHeaders(LengthUnit unit) {
 
 // The form the header names, or the one asked for when its column count fits.
 const CsvForm& HeaderForm(const std::vector<std::string>& fields, const PoseListOptions& options,
-                          const std::function<InputError(const std::string&)>& fail) {
+                          const Fail& fail) {
   if (options.rotation) {
     const CsvForm& form = FormOf(*options.rotation);
     if (fields.size() != form.header.size())
@@ -123,7 +125,7 @@ const CsvForm& HeaderForm(const std::vector<std::string>& fields, const PoseList
 }
 
 Eigen::Matrix3d RowRotation(const CsvForm& form, const double* r, bool reorthonormalise,
-                            const std::function<InputError(const std::string&)>& fail) {
+                            const Fail& fail) {
   const Eigen::Vector3d v(r[0], r[1], r[2]);
   switch (form.rotation) {
     case CsvRotation::kQuaternion: {
@@ -143,8 +145,6 @@ Eigen::Matrix3d RowRotation(const CsvForm& form, const double* r, bool reorthono
   }
   return Eigen::Matrix3d::Identity();
 }
-
-using Fail = std::function<InputError(const std::string&)>;
 
 // Ids are unique; `where` of the first is remembered for the message
 // ("line 3", "/poses/2").
