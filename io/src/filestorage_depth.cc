@@ -2,6 +2,7 @@
 #include "filestorage_depth.h"
 
 #include <algorithm>
+#include <cctype>
 #include <vector>
 
 namespace handeye::internal {
@@ -145,6 +146,13 @@ class YamlDepth {
     blocks_.push_back({column, sequence});
     stopped_ = stopped_ || counter_.Deeper(Depth());
   }
+  // OpenCV reads "-1" and "-.5" as numbers and any other '-' that starts a
+  // block value as a sequence, also without a blank after it ("--x" is a
+  // sequence in a sequence; found by fuzz/run).
+  bool StartsNumber(std::size_t next, std::size_t end) const {
+    return next < end &&
+           (std::isdigit(static_cast<unsigned char>(text_[next])) || text_[next] == '.');
+  }
   std::size_t SkipSpaces(std::size_t i, std::size_t end) const {
     while (i < end && (text_[i] == ' ' || text_[i] == '\r')) ++i;
     return i;
@@ -166,7 +174,7 @@ class YamlDepth {
     while (p < end && !stopped_) {
       const char c = text_[p];
       const std::size_t column = p - start;
-      if (c == '-' && (p + 1 == end || text_[p + 1] == ' ' || text_[p + 1] == '\r')) {
+      if (c == '-' && !StartsNumber(p + 1, end)) {
         Open(column, true);
         p = SkipSpaces(p + 1, end);
       } else if (c == '!' && !key_position) {

@@ -3,8 +3,10 @@
 // limit: a camera_matrix nested 50 000 deep (100 KB) overflowed the stack
 // (exit 139). The loader measures the nesting before OpenCV reads the text.
 #include <catch2/catch.hpp>
+#include <filesystem>
 #include <string>
 
+#include "../../io/src/filestorage_depth.h"
 #include "handeye/core/error.h"
 #include "handeye/io/intrinsics_files.h"
 #include "support/test_support.h"
@@ -89,6 +91,41 @@ TEST_CASE(
       CHECK(e.json_path() == "/camera_matrix");
       CHECK_THAT(e.what(), Contains("expected an opencv-matrix"));
     }
+  }
+}
+
+int TreeDepth(const cv::FileNode& node) {
+  if (!node.isMap() && !node.isSeq()) return 0;
+  int deepest = 0;
+  for (auto it = node.begin(); it != node.end(); ++it) deepest = std::max(deepest, TreeDepth(*it));
+  return deepest + 1;
+}
+
+TEST_CASE("The nesting guard never measures less than the tree OpenCV builds",
+          "[io][intrinsics][bad]") {
+  using internal::FileStorageSyntax;
+  // The first: fuzz/run found that OpenCV reads "--" as two sequences while
+  // the guard counted none.
+  const std::string finding = test::ReadText((std::filesystem::path(__FILE__).parent_path() /
+                                              "fuzz_findings/opencv_yaml_dash_sequences.yaml")
+                                                 .string());
+  for (const auto& [text, syntax] :
+       {std::pair<std::string, FileStorageSyntax>{"%YAML:1.0\n" + finding,
+                                                  FileStorageSyntax::kYaml},
+        {"%YAML:1.0\na: --x\nb: -y\nc: -1\n", FileStorageSyntax::kYaml},
+        {"%YAML:1.0\na:\n  -\n    - [1, {b: c}]\n  - d: e: f\n", FileStorageSyntax::kYaml},
+        {"%YAML:1.0\na: {'k]': ['x]', \"y]\"], l}: [[2]]\n", FileStorageSyntax::kYaml},
+        {"{\"a\": [\"]]\", [{\"b\": [1]}]]}", FileStorageSyntax::kJson},
+        {"<?xml version=\"1.0\"?>\n<opencv_storage><a><_>\"</_>\" 1</_></a></opencv_storage>\n",
+         FileStorageSyntax::kXml}}) {
+    INFO(text);
+    int real = -1;
+    try {
+      real = TreeDepth(internal::OpenFileStorageText(text, "t").root());
+    } catch (const InputError&) {
+      continue;  // refused before or by OpenCV: nothing to compare
+    }
+    CHECK(internal::FileStorageNestingDepth(text, syntax, 1 << 30) >= real);
   }
 }
 
