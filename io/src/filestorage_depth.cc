@@ -171,15 +171,20 @@ class YamlDepth {
     // (quotes included); elsewhere a quote starts a string value.
     bool key_position =
         !blocks_.empty() && blocks_.back().column == indent && !blocks_.back().sequence;
+    // OpenCV reads one tag per value; a second '!' is text ("!!a !!b: c" is
+    // a mapping; found by fuzz/run).
+    bool tagged = false;
     while (p < end && !stopped_) {
       const char c = text_[p];
       const std::size_t column = p - start;
       if (c == '-' && !StartsNumber(p + 1, end)) {
         Open(column, true);
         p = SkipSpaces(p + 1, end);
-      } else if (c == '!' && !key_position) {
+      } else if (c == '!' && !key_position && !tagged) {
         while (p < end && text_[p] != ' ') ++p;
         p = SkipSpaces(p, end);
+        tagged = true;
+        continue;
       } else if ((c == '[' || c == '{') && !key_position) {
         return Flow(p);
       } else if ((c == '\'' || c == '"' || c == '#') && !key_position) {
@@ -191,6 +196,7 @@ class YamlDepth {
         p = SkipSpaces(colon + 1, end);
       }
       key_position = false;
+      tagged = false;
     }
     return next_line;
   }
@@ -199,6 +205,7 @@ class YamlDepth {
   // returns where the line after its end starts.
   std::size_t Flow(std::size_t i) {
     Expect expect = Expect::kValue;
+    bool tagged = false;  // as in BlockLine: one tag per value
     while (!stopped_) {
       i = SkipBlanks(i);
       if (i >= text_.size()) return i;
@@ -215,19 +222,23 @@ class YamlDepth {
       } else if (expect == Expect::kSeparator) {
         if (c != ',') return Unfollowed(i);
         expect = flows_.back() == '{' ? Expect::kKeyAfterComma : Expect::kValue;
+        tagged = false;
         ++i;
       } else if (expect == Expect::kKey || expect == Expect::kKeyAfterComma) {
         while (i < text_.size() && Printable(text_[i]) && text_[i] != ':') ++i;
         if (i >= text_.size() || text_[i] != ':') return Unfollowed(i);
         expect = Expect::kValue;
+        tagged = false;
         ++i;
       } else if (c == '[' || c == '{') {
         flows_.push_back(c);
         stopped_ = counter_.Deeper(Depth());
         expect = c == '{' ? Expect::kKey : Expect::kValue;
+        tagged = false;
         ++i;
-      } else if (c == '!') {
+      } else if (c == '!' && !tagged) {
         while (i < text_.size() && Printable(text_[i]) && text_[i] != ' ') ++i;
+        tagged = true;
       } else if (c == '\'' || c == '"') {
         i = SkipQuoted(i);
         if (i == std::string::npos) return Unfollowed(text_.size());

@@ -104,14 +104,17 @@ int TreeDepth(const cv::FileNode& node) {
 TEST_CASE("The nesting guard never measures less than the tree OpenCV builds",
           "[io][intrinsics][bad]") {
   using internal::FileStorageSyntax;
-  // The first: fuzz/run found that OpenCV reads "--" as two sequences while
-  // the guard counted none.
-  const std::string finding = test::ReadText((std::filesystem::path(__FILE__).parent_path() /
-                                              "fuzz_findings/opencv_yaml_dash_sequences.yaml")
-                                                 .string());
+  // The first two fuzz/run found: OpenCV reads "--" as two sequences, and a
+  // second tag as text (here a key), where the guard counted neither.
+  const auto finding = [](const char* name) {
+    return test::ReadText(
+        (std::filesystem::path(__FILE__).parent_path() / "fuzz_findings" / name).string());
+  };
   for (const auto& [text, syntax] :
-       {std::pair<std::string, FileStorageSyntax>{"%YAML:1.0\n" + finding,
-                                                  FileStorageSyntax::kYaml},
+       {std::pair<std::string, FileStorageSyntax>{
+            "%YAML:1.0\n" + finding("opencv_yaml_dash_sequences.yaml"), FileStorageSyntax::kYaml},
+        {"%YAML:1.0\n" + finding("opencv_yaml_second_tag.yaml"), FileStorageSyntax::kYaml},
+        {"%YAML:1.0\na: !!x !!y: [[1]]\nb: [!!u !!v, [[2]]]\n", FileStorageSyntax::kYaml},
         {"%YAML:1.0\na: --x\nb: -y\nc: -1\n", FileStorageSyntax::kYaml},
         {"%YAML:1.0\na:\n  -\n    - [1, {b: c}]\n  - d: e: f\n", FileStorageSyntax::kYaml},
         {"%YAML:1.0\na: {'k]': ['x]', \"y]\"], l}: [[2]]\n", FileStorageSyntax::kYaml},
