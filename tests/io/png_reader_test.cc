@@ -30,21 +30,12 @@ void Append32(Bytes* out, std::uint32_t v) {
   for (int shift : {24, 16, 8, 0}) out->push_back(static_cast<std::uint8_t>(v >> shift));
 }
 
-std::uint32_t Crc32(const std::uint8_t* data, std::size_t n) {
-  std::uint32_t crc = 0xffffffffu;
-  for (std::size_t i = 0; i < n; ++i) {
-    crc ^= data[i];
-    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
-  }
-  return crc ^ 0xffffffffu;
-}
-
 void AppendChunk(Bytes* png, const char* type, const Bytes& data) {
   Append32(png, static_cast<std::uint32_t>(data.size()));
   const std::size_t start = png->size();
   png->insert(png->end(), type, type + 4);
   png->insert(png->end(), data.begin(), data.end());
-  Append32(png, Crc32(png->data() + start, png->size() - start));
+  Append32(png, test::Crc32(png->data() + start, png->size() - start));
 }
 
 /// A zlib stream of stored (uncompressed) deflate blocks.

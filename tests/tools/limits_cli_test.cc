@@ -24,22 +24,13 @@ long PeakChildBytes() {
   return usage.ru_maxrss * 1024L;
 }
 
-std::uint32_t Crc32(const std::uint8_t* data, std::size_t n) {
-  std::uint32_t crc = 0xffffffffu;
-  for (std::size_t i = 0; i < n; ++i) {
-    crc ^= data[i];
-    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
-  }
-  return crc ^ 0xffffffffu;
-}
-
 // A valid small PNG whose header then says 65536 x 65536 (its CRC fixed).
 void WritePngDeclaring65536(const std::string& path) {
   std::vector<std::uint8_t> png;
   REQUIRE(cv::imencode(".png", cv::Mat(8, 8, CV_8UC1, cv::Scalar(90)), png));
   for (int at : {16, 20})
     png[at] = 0, png[at + 1] = 1, png[at + 2] = 0, png[at + 3] = 0;  // IHDR width, height
-  const std::uint32_t crc = Crc32(png.data() + 12, 17);
+  const std::uint32_t crc = handeye::test::Crc32(png.data() + 12, 17);
   for (int k = 0; k < 4; ++k) png[29 + k] = static_cast<std::uint8_t>(crc >> (24 - 8 * k));
   std::ofstream(path, std::ios::binary)
       .write(reinterpret_cast<const char*>(png.data()), png.size());
