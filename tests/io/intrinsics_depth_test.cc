@@ -104,8 +104,9 @@ int TreeDepth(const cv::FileNode& node) {
 TEST_CASE("The nesting guard never measures less than the tree OpenCV builds",
           "[io][intrinsics][bad]") {
   using internal::FileStorageSyntax;
-  // The first two fuzz/run found: OpenCV reads "--" as two sequences, and a
-  // second tag as text (here a key), where the guard counted neither.
+  // The first three fuzz/run found: OpenCV reads "--" as two sequences, a
+  // second tag as text (here a key) and a '%' line after the first key as a
+  // key, where the guard counted none of them.
   const auto finding = [](const char* name) {
     return test::ReadText(
         (std::filesystem::path(__FILE__).parent_path() / "fuzz_findings" / name).string());
@@ -114,6 +115,8 @@ TEST_CASE("The nesting guard never measures less than the tree OpenCV builds",
        {std::pair<std::string, FileStorageSyntax>{
             "%YAML:1.0\n" + finding("opencv_yaml_dash_sequences.yaml"), FileStorageSyntax::kYaml},
         {"%YAML:1.0\n" + finding("opencv_yaml_second_tag.yaml"), FileStorageSyntax::kYaml},
+        {"%YAML:1.0\n" + finding("opencv_yaml_percent_key.yaml"), FileStorageSyntax::kYaml},
+        {"%YAML:1.0\na: 1\n%b: [[[1]]]\n", FileStorageSyntax::kYaml},
         {"%YAML:1.0\na: !!x !!y: [[1]]\nb: [!!u !!v, [[2]]]\n", FileStorageSyntax::kYaml},
         {"%YAML:1.0\na: --x\nb: -y\nc: -1\n", FileStorageSyntax::kYaml},
         {"%YAML:1.0\na:\n  -\n    - [1, {b: c}]\n  - d: e: f\n", FileStorageSyntax::kYaml},
