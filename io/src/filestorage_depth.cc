@@ -163,10 +163,13 @@ class YamlDepth {
     const std::size_t indent = SkipSpaces(start, end) - start;
     std::size_t p = start + indent;
     const std::size_t next_line = end + 1;
-    // A '%' line is a directive only before the first key; after it, OpenCV
-    // reads it as a key ("%YAML: [[1]]"; found by fuzz/run).
-    if (p == end || text_[p] == '#' || (text_[p] == '%' && blocks_.empty()) ||
-        text_.compare(p, 3, "---") == 0)
+    // A '%' line is a directive only before "---" and the first key; after
+    // either, OpenCV reads it as a key ("%YAML: [[1]]"; found by fuzz/run).
+    if (p < end && text_.compare(p, 3, "---") == 0) {
+      document_started_ = true;
+      return next_line;
+    }
+    if (p == end || text_[p] == '#' || (text_[p] == '%' && blocks_.empty() && !document_started_))
       return next_line;
     if (text_.compare(p, 3, "...") == 0) return text_.size();
     while (!blocks_.empty() && blocks_.back().column > indent) blocks_.pop_back();
@@ -300,6 +303,7 @@ class YamlDepth {
   std::vector<Block> blocks_;
   std::vector<char> flows_;
   bool stopped_ = false;
+  bool document_started_ = false;  // a "---" line was seen
 };
 
 }  // namespace
