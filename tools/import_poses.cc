@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// `handeye import-poses POSES.csv --template TEMPLATE.json -o DATASET.json`:
-// makes a handeye-dataset/1 from a robot pose list (`id,x,y,z,qx,qy,qz,qw`,
+// `handeye import-poses POSES --template TEMPLATE.json -o DATASET.json`:
+// makes a handeye-dataset/1 from a robot pose list (CSV with a quaternion,
+// rotation vector or Euler angles, or a YAML list of ROS poses;
 // io/pose_formats.h) and a template that holds everything else (setup,
 // target, cameras), with image paths built from the pose ids.
 #include <filesystem>
@@ -29,6 +30,7 @@ struct ImportPosesArgs {
   std::string template_path;
   std::string output;
   std::string unit = "m";
+  std::string rotation;  // "" = from the CSV header
   std::vector<std::string> images;  // CAM=PATTERN
   bool reorthonormalise = false;
 };
@@ -59,13 +61,53 @@ std::string Rebase(const std::string& path, const std::string& from_file, const 
   return relative.empty() ? absolute.generic_string() : relative.generic_string();
 }
 
-void RunImportPoses(const ImportPosesArgs& args) {
+// An image path of --images, given relative to the current folder like every
+// path on the command line, as the dataset stores it: relative to the
+// output's folder.
+std::string RebaseFromCurrentFolder(const std::string& path, const std::string& to_file) {
+  return Rebase(path, (std::filesystem::current_path() / "-").string(), to_file);
+}
+
+// Every image --images names must exist: a typo in a pattern would otherwise
+// show only when detect runs.
+void RequireImagesExist(const std::vector<PoseRow>& rows, const std::map<std::string, std::string>& pattern_of_camera) {
+  std::size_t missing = 0, total = 0;
+  std::string first, first_what;
+  for (const PoseRow& row : rows)
+    for (const auto& [camera, pattern] : pattern_of_camera) {
+      const std::string image = Replace(pattern, kIdPlaceholder, row.id);
+      std::error_code ec;
+      ++total;
+      if (std::filesystem::is_regular_file(image, ec) || missing++ > 0) continue;
+      first = image;
+      first_what = "camera '" + camera + "', pose '" + row.id + "', from --images " + camera + "=" + pattern;
+    }
+  if (missing > 0)
+    throw InputError(first, "", "image file does not exist (" + first_what + "; " + std::to_string(missing) + " of " +
+                                    std::to_string(total) +
+                                    " images are missing; --images paths are relative to the current folder)");
+}
+
+PoseListOptions ReadOptions(const ImportPosesArgs& args) {
   if (args.unit != "m" && args.unit != "mm")
     throw InputError("", "", "--translation-unit: expected m or mm, got '" + args.unit + "'");
+  PoseListOptions options;
+  options.unit = args.unit == "mm" ? LengthUnit::kMillimetre : LengthUnit::kMetre;
+  options.reorthonormalise = args.reorthonormalise;
+  if (!args.rotation.empty()) {
+    options.rotation = ParseCsvRotation(args.rotation);
+    if (!options.rotation)
+      throw InputError("", "", "--rotation: expected quaternion, rotvec, kuka_abc or rpy, got '" + args.rotation + "'");
+  }
+  return options;
+}
+
+void RunImportPoses(const ImportPosesArgs& args) {
+  const PoseListOptions options = ReadOptions(args);
   CheckFileOutputs({{"POSES", args.csv}, {"--template", args.template_path}},
                    {{"-o", args.output}});
-  const std::vector<PoseRow> rows =
-      ReadPoseCsv(args.csv, args.unit == "mm" ? LengthUnit::kMillimetre : LengthUnit::kMetre, args.reorthonormalise);
+  const std::vector<PoseRow> rows = ReadPoseList(args.csv, options);
+  RequirePlausibleReach(rows, args.csv, options.unit, "--translation-unit");
 
   const nlohmann::json checked = ReadJsonFile(args.template_path);
   const JsonReader root(&checked, args.template_path);
@@ -103,6 +145,7 @@ void RunImportPoses(const ImportPosesArgs& args) {
     if (!pattern_of_camera.emplace(camera, pattern).second)
       throw InputError("", "", "--images: camera '" + camera + "' given twice");
   }
+  RequireImagesExist(rows, pattern_of_camera);
 
   OrderedJson out = ReadOrdered(args.template_path);
   // Intrinsics files are referenced relative to the template; the dataset
@@ -120,7 +163,8 @@ void RunImportPoses(const ImportPosesArgs& args) {
     // Camera order, as SaveDataset writes them.
     for (const auto& camera : dataset.cameras) {
       const auto it = pattern_of_camera.find(camera.name);
-      if (it != pattern_of_camera.end()) images[camera.name] = Replace(it->second, kIdPlaceholder, row.id);
+      if (it != pattern_of_camera.end())
+        images[camera.name] = RebaseFromCurrentFolder(Replace(it->second, kIdPlaceholder, row.id), args.output);
     }
     pose["images"] = images;
     poses.push_back(pose);
@@ -130,18 +174,8 @@ void RunImportPoses(const ImportPosesArgs& args) {
   // (image paths are relative to the output's folder).
   DatasetFromJson(nlohmann::json::parse(out.dump()), args.output);
   WriteFileAtomically(args.output, DumpJson(out));
-
-  std::size_t missing = 0;
-  const std::filesystem::path folder = std::filesystem::path(args.output).parent_path();
-  for (const auto& pose : poses)
-    for (const auto& [camera, image] : pose["images"].items()) {
-      std::error_code ec;
-      if (!std::filesystem::exists(folder / image.get<std::string>(), ec)) ++missing;
-    }
   std::cerr << "wrote " << args.output << ": " << rows.size() << " poses from " << args.csv << ", images for "
             << pattern_of_camera.size() << " of " << dataset.cameras.size() << " cameras\n";
-  if (missing > 0)
-    std::cerr << "warning: " << missing << " image paths do not exist (yet); detect will report each one\n";
 }
 
 }  // namespace
@@ -149,16 +183,25 @@ void RunImportPoses(const ImportPosesArgs& args) {
 void RegisterImportPoses(CLI::App& app) {
   auto args = std::make_shared<ImportPosesArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "import-poses", "make a dataset from a robot pose list (CSV id,x,y,z,qx,qy,qz,qw) and a template");
-  cmd->add_option("POSES", args->csv, "CSV with header id,x,y,z,qx,qy,qz,qw (T_base_ee per pose)")->required();
+      "import-poses", "make a dataset from a robot pose list (CSV or YAML, docs/formats.md) and a template");
+  cmd->add_option("POSES", args->csv,
+                  "T_base_ee per pose: CSV with header id,x,y,z then qx,qy,qz,qw | rx,ry,rz (rotation vector, "
+                  "rad) | a,b,c (KUKA, deg) | roll,pitch,yaw (deg); or .yaml/.yml, a list of ROS "
+                  "geometry_msgs/Pose")
+      ->required();
   cmd->add_option("--template", args->template_path,
                   "handeye-dataset/1 file without poses: format, setup, target and cameras")
       ->required();
   cmd->add_option("-o,--output", args->output, "dataset file to write (handeye-dataset/1)")->required();
-  cmd->add_option("--translation-unit", args->unit, "unit of x, y, z: m (default) or mm");
+  cmd->add_option("--translation-unit", args->unit,
+                  "unit of x, y, z: m (default) or mm; a pose over 10 m from the base, or all within 1 cm, "
+                  "is refused as a unit mistake");
+  cmd->add_option("--rotation", args->rotation,
+                  "the CSV's rotation columns whatever the header calls them: quaternion, rotvec, kuka_abc or rpy");
   cmd->add_option("--images", args->images,
                   "CAMERA=PATTERN, image path per pose with {id} replaced by the pose id, relative to the "
-                  "output's folder (repeat per camera)")
+                  "current folder (written relative to the output's folder); every file must exist (repeat "
+                  "per camera)")
       ->allow_extra_args(false);  // one value per --images, so POSES after it stays positional
   cmd->add_flag("--reorthonormalise", args->reorthonormalise,
                 "normalise quaternions that are not unit instead of rejecting them");

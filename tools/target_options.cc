@@ -65,7 +65,7 @@ bool TargetOptions::Given(const std::string& name) const {
 
 void AddTargetOptions(CLI::App* cmd, TargetOptions* o) {
   o->added["--target-json"] = cmd->add_option("--target-json", o->target_json,
-                                              "file with a `target` object (SPEC §4), or a dataset "
+                                              "file with a `target` object (docs/formats.md#targets), or a dataset "
                                               "holding one, instead of the options below");
   o->added["--board"] =
       cmd->add_option("--board", o->board, "checkerboard inner corners COLSxROWS (default 7x4)");

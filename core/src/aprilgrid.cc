@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "handeye/core/error.h"
+#include "handeye/core/input_limits.h"
 
 namespace handeye {
 namespace {
@@ -57,6 +58,7 @@ AprilGridTarget::AprilGridTarget(const TargetSpec& spec, MarkerCodebook family)
                      "expected the code book of family '" + name + "', got '" + family_.name + "'");
   border_bits_ = spec_.Has("border_bits") ? spec_.GetInt("border_bits", 1) : 2;
   if (border_bits_ > 2) throw InputError("", "/border_bits", "expected 1 or 2 (Kalibr prints 2)");
+  RequireTargetPointsWithinLimit(2 * std::int64_t{cols_}, 2 * std::int64_t{rows_}, "/tags");
   if (NumTags() > static_cast<int>(family_.codes.size()))
     throw InputError("", "/tags",
                      std::to_string(cols_) + "x" + std::to_string(rows_) +

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "handeye/core/error.h"
+#include "handeye/core/input_limits.h"
 
 namespace handeye {
 
@@ -30,6 +31,7 @@ CharucoTarget::CharucoTarget(const TargetSpec& spec, MarkerCodebook dictionary)
         "expected the code book of dictionary '" + name + "', got '" + dictionary_.name + "'");
   if (spec.Has("min_corners")) spec.GetInt("min_corners", 4);
   margin_m_ = 0.5 * (square_m_ - marker_m_);
+  RequireTargetPointsWithinLimit(squares_x_ - 1, squares_y_ - 1, "/squares");
   const std::string layout = spec.GetString("layout", "opencv");
   if (layout != "opencv" && layout != "legacy")
     throw InputError(

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "handeye/core/error.h"
+#include "handeye/core/input_limits.h"
 
 namespace handeye {
 
@@ -37,8 +38,9 @@ CheckerboardTarget::CheckerboardTarget(int cols, int rows, double square_size_m)
 }
 
 void CheckerboardTarget::Build() {
+  RequireTargetPointsWithinLimit(cols_, rows_, "/inner_corners");
   points_.clear();
-  points_.reserve(cols_ * rows_);
+  points_.reserve(static_cast<std::size_t>(cols_) * rows_);
   for (int j = 0; j < rows_; ++j)
     for (int i = 0; i < cols_; ++i)
       points_.push_back({j * cols_ + i, Eigen::Vector3d(i * square_m_, j * square_m_, 0.0)});

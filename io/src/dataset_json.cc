@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "handeye/io/dataset_json.h"
 
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -11,6 +12,7 @@
 
 #include "dataset_json_internal.h"
 #include "handeye/core/error.h"
+#include "handeye/core/input_limits.h"
 #include "handeye/detectors/registry.h"
 #include "handeye/io/atomic_file.h"
 #include "handeye/io/intrinsics_files.h"
@@ -161,6 +163,9 @@ Camera ReadCamera(const JsonReader& r) {
     width = file_width;
     height = file_height;
   }
+  // Checked here, before detect decodes a single image of this size.
+  const JsonReader size_source = size.present() ? size : r.Key("intrinsics_file");
+  RequireImagePixelsWithinLimit(width, height, size_source.file(), size_source.path());
   if (from_file) {
     std::string why;
     const auto camera = Camera::Make(name, width, height, from_file->fx, from_file->fy, from_file->cx, from_file->cy,
@@ -220,6 +225,22 @@ void ReadCameras(const JsonReader& r, Dataset* dataset) {
   }
 }
 
+// Millimetres written as metres put the flange a kilometre from the base,
+// and the solve then failed in Ceres's words ("Residual and Jacobian
+// evaluation failed"); the unit is named here instead.
+void RequirePlausibleReach(const JsonReader& poses, const Dataset& dataset) {
+  std::vector<Eigen::Vector3d> translations;
+  for (const RobotPose& pose : dataset.poses) translations.push_back(pose.T_base_ee.translation());
+  const auto farthest = ImplausibleReach(translations);
+  if (!farthest || translations[*farthest].norm() <= kMaxRobotReachM) return;
+  char distance[32];
+  std::snprintf(distance, sizeof distance, "%.4g", translations[*farthest].norm());
+  throw poses.At(*farthest).Key("T_base_ee").Error(
+      std::string("expected a translation in metres; this one puts the flange ") + distance +
+      " m from the robot base, farther than a robot reaches (10 m): millimetres written as metres? Write them "
+      "as {\"translation_mm\": [x, y, z], ...} or divide by 1000");
+}
+
 void ReadPoses(const JsonReader& r, bool with_images, const LoadOptions& options,
                Dataset* dataset) {
   const std::size_t n = r.ArraySize("an array of robot pose objects");
@@ -252,6 +273,7 @@ void ReadPoses(const JsonReader& r, bool with_images, const LoadOptions& options
     }
     dataset->poses.push_back(std::move(pose));
   }
+  RequirePlausibleReach(r, *dataset);
 }
 
 void ReadObservations(const JsonReader& r, Dataset* dataset) {

@@ -15,6 +15,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "handeye/core/error.h"
+#include "handeye/core/input_limits.h"
 #include "handeye/io/atomic_file.h"
 #include "png_reader.h"
 
@@ -48,6 +49,8 @@ cv::Mat LoadGrayImage(const std::string& path, const Camera& camera) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw InputError(path, "", "image file does not exist (camera '" + camera.name + "')");
+  // Before the file is read: the image must have the camera's size.
+  RequireImagePixelsWithinLimit(camera.width, camera.height, path, "");
   const std::vector<std::uint8_t> bytes = ReadBytes(path);
   if (internal::HasPngSignature(bytes.data(), bytes.size())) {
     // The size is checked from the header, before any pixel memory exists:

@@ -9,6 +9,7 @@
 #include "handeye/core/error.h"
 #include "handeye/io/json_util.h"
 #include "handeye/io/yaml_file.h"
+#include "filestorage_depth.h"
 #include "text_file.h"
 
 namespace handeye {
@@ -146,8 +147,23 @@ void RequireOneOpenCvYamlMapping(const std::string& text, const std::string& pat
   }
 }
 
-FileIntrinsics ReadOpenCv(const std::string& path) {
-  std::string text = internal::ReadTextFile(path, "an intrinsics file");
+// OpenCV 4.6's parsers recurse once per nesting level without a limit: a
+// camera_matrix nested 50 000 deep (100 KB) overflowed the stack.
+void RequireShallowNesting(const std::string& text, int format, const std::string& path) {
+  using internal::kMaxFileStorageDepth;
+  const auto syntax = format == cv::FileStorage::FORMAT_XML    ? internal::FileStorageSyntax::kXml
+                      : format == cv::FileStorage::FORMAT_JSON ? internal::FileStorageSyntax::kJson
+                                                               : internal::FileStorageSyntax::kYaml;
+  if (internal::FileStorageNestingDepth(text, syntax, kMaxFileStorageDepth) > kMaxFileStorageDepth)
+    throw InputError(path, "", "nested more than " + std::to_string(kMaxFileStorageDepth) +
+                                   " levels deep; an intrinsics file needs 3 (camera_matrix: rows, cols, dt, data)");
+}
+
+}  // namespace
+
+namespace internal {
+
+cv::FileStorage OpenFileStorageText(std::string text, const std::string& path) {
   // OpenCV's parsers read the text as a C string (a NUL ends it early), and
   // its XML parser dereferences a null pointer when the text ends just after
   // an attribute's '=' (OpenCV 4.6; both found by fuzz/run). Neither reaches it.
@@ -172,6 +188,7 @@ FileIntrinsics ReadOpenCv(const std::string& path) {
   }
   if (AsksForBase64(text, format))
     throw InputError(path, "", "base64 (binary) values are not read: write the matrices as text");
+  RequireShallowNesting(text, format, path);
   cv::FileStorage fs;
   try {
     fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY | format);
@@ -183,6 +200,15 @@ FileIntrinsics ReadOpenCv(const std::string& path) {
     throw InputError(path, "", std::string("not an OpenCV FileStorage file (YAML, XML or JSON): ") + e.what());
   }
   if (!fs.isOpened()) throw InputError(path, "", "not an OpenCV FileStorage file (YAML, XML or JSON)");
+  return fs;
+}
+
+}  // namespace internal
+
+namespace {
+
+FileIntrinsics ReadOpenCv(const std::string& path) {
+  const cv::FileStorage fs = internal::OpenFileStorageText(internal::ReadTextFile(path, "an intrinsics file"), path);
   // FileStorage's operator[] asserts (cv::Exception) on a root that is not a
   // mapping (found by fuzz/run).
   if (!fs.root().isMap())

@@ -1,16 +1,11 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "handeye/io/pose_formats.h"
 
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <map>
-#include <sstream>
 
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
-#include "text_file.h"
 
 namespace handeye {
 namespace {
@@ -66,37 +61,6 @@ Eigen::Matrix3d ReadRotation(const JsonReader& r, const std::string& key, bool r
   if (!convention)
     throw convention_json.Error("unknown Euler convention '" + name + "'; expected \"kuka_abc\" or \"rpy\"");
   return RotationFromEulerDeg(*convention, Vector3(value));
-}
-
-// --- CSV -------------------------------------------------------------------------
-
-std::string Trim(const std::string& s) {
-  const auto begin = s.find_first_not_of(" \t\r\n");
-  if (begin == std::string::npos) return "";
-  const auto end = s.find_last_not_of(" \t\r\n");
-  return s.substr(begin, end - begin + 1);
-}
-
-std::vector<std::string> SplitFields(const std::string& line) {
-  std::vector<std::string> fields;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = line.find(',', start);
-    std::string field = Trim(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-    if (field.size() >= 2 && field.front() == '"' && field.back() == '"') field = field.substr(1, field.size() - 2);
-    fields.push_back(field);
-    if (comma == std::string::npos) return fields;
-    start = comma + 1;
-  }
-}
-
-std::optional<double> ParseFiniteNumber(const std::string& text) {
-  if (text.empty()) return std::nullopt;
-  char* end = nullptr;
-  errno = 0;
-  const double x = std::strtod(text.c_str(), &end);
-  if (end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(x)) return std::nullopt;
-  return x;
 }
 
 }  // namespace
@@ -172,60 +136,6 @@ Eigen::Isometry3d ReadPose(const JsonReader& value, bool reorthonormalise) {
   const double scale = translations[0] == "translation_mm" ? 1e-3 : 1.0;
   T.translation() = scale * Vector3(value.Key(translations[0]));
   return T;
-}
-
-std::vector<PoseRow> ReadPoseCsv(const std::string& path, LengthUnit unit, bool reorthonormalise) {
-  std::istringstream in(internal::ReadTextFile(path, "a CSV pose list"));
-
-  static const std::vector<std::string> kHeader = {"id", "x", "y", "z", "qx", "qy", "qz", "qw"};
-  const double scale = unit == LengthUnit::kMillimetre ? 1e-3 : 1.0;
-  auto fail = [&](int line, const std::string& what) {
-    return InputError(path, "", "line " + std::to_string(line) + ": " + what);
-  };
-
-  std::vector<PoseRow> rows;
-  std::map<std::string, int> line_of_id;
-  bool header_seen = false;
-  std::string text;
-  for (int number = 1; std::getline(in, text); ++number) {
-    if (number == 1 && text.rfind("\xEF\xBB\xBF", 0) == 0) text = text.substr(3);  // spreadsheet BOM
-    const std::string line = Trim(text);
-    if (line.empty() || line[0] == '#') continue;
-    const std::vector<std::string> fields = SplitFields(line);
-    if (!header_seen) {
-      if (fields != kHeader)
-        throw fail(number, "expected the header 'id,x,y,z,qx,qy,qz,qw' (translation in " +
-                               std::string(unit == LengthUnit::kMillimetre ? "millimetres" : "metres") +
-                               ", quaternion x y z w), got '" + line + "'");
-      header_seen = true;
-      continue;
-    }
-    if (fields.size() != kHeader.size())
-      throw fail(number, "expected 8 comma-separated fields (id,x,y,z,qx,qy,qz,qw), got " +
-                             std::to_string(fields.size()));
-    PoseRow row;
-    row.line = number;
-    row.id = fields[0];
-    if (row.id.empty()) throw fail(number, "column id: expected a pose id, got an empty field");
-    const auto [it, inserted] = line_of_id.emplace(row.id, number);
-    if (!inserted)
-      throw fail(number, "duplicate pose id '" + row.id + "' (also on line " + std::to_string(it->second) + ")");
-    double v[7];
-    for (int k = 0; k < 7; ++k) {
-      const auto x = ParseFiniteNumber(fields[k + 1]);
-      if (!x)
-        throw fail(number, "column " + kHeader[k + 1] + ": expected a finite number, got '" + fields[k + 1] + "'");
-      v[k] = *x;
-    }
-    std::string why;
-    const auto q = UnitQuaternion(v[6], v[3], v[4], v[5], reorthonormalise, &why);
-    if (!q) throw fail(number, "columns qx,qy,qz,qw: expected " + why);
-    row.T_base_ee = MakeTransform(*q, scale * Eigen::Vector3d(v[0], v[1], v[2]));
-    rows.push_back(std::move(row));
-  }
-  if (!header_seen) throw InputError(path, "", "empty file; expected the header 'id,x,y,z,qx,qy,qz,qw' and rows");
-  if (rows.empty()) throw InputError(path, "", "no poses; expected rows after the header 'id,x,y,z,qx,qy,qz,qw'");
-  return rows;
 }
 
 }  // namespace handeye

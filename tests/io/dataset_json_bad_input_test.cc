@@ -324,3 +324,29 @@ TEST_CASE("Bad input: a broken ground_truth object inside a dataset", "[io][data
 
 }  // namespace
 }  // namespace handeye
+
+namespace handeye {
+namespace {
+
+using namespace handeye::test;
+
+TEST_CASE("Bad input: a camera or board larger than the input caps", "[io][dataset][bad][limits]") {
+  unsetenv("HANDEYE_MAX_IMAGE_PIXELS");
+  unsetenv("HANDEYE_MAX_TARGET_POINTS");
+  // A 4 MB PNG of 65536 x 65536 pixels decoded to 9.5 GB: its camera is
+  // refused when the dataset loads, before detect reads an image.
+  json j = ValidDatasetJson();
+  j["cameras"][0]["image_size"] = {65536, 65536};
+  RequireLoadError(j, "/cameras/0/image_size",
+                   "65536 x 65536 = 4294967296 pixels; expected at most 200000000 per image "
+                   "(set HANDEYE_MAX_IMAGE_PIXELS to allow larger images)");
+  // The same board declared 20000 x 20000 asked for 12.5 GB.
+  j = ValidDatasetJson();
+  j["target"]["inner_corners"] = {20000, 20000};
+  RequireLoadError(j, "/target/inner_corners",
+                   "20000 x 20000 = 400000000 target points; expected at most 20000 "
+                   "(set HANDEYE_MAX_TARGET_POINTS to allow a larger board)");
+}
+
+}  // namespace
+}  // namespace handeye

@@ -30,21 +30,12 @@ void Append32(Bytes* out, std::uint32_t v) {
   for (int shift : {24, 16, 8, 0}) out->push_back(static_cast<std::uint8_t>(v >> shift));
 }
 
-std::uint32_t Crc32(const std::uint8_t* data, std::size_t n) {
-  std::uint32_t crc = 0xffffffffu;
-  for (std::size_t i = 0; i < n; ++i) {
-    crc ^= data[i];
-    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
-  }
-  return crc ^ 0xffffffffu;
-}
-
 void AppendChunk(Bytes* png, const char* type, const Bytes& data) {
   Append32(png, static_cast<std::uint32_t>(data.size()));
   const std::size_t start = png->size();
   png->insert(png->end(), type, type + 4);
   png->insert(png->end(), data.begin(), data.end());
-  Append32(png, Crc32(png->data() + start, png->size() - start));
+  Append32(png, test::Crc32(png->data() + start, png->size() - start));
 }
 
 /// A zlib stream of stored (uncompressed) deflate blocks.
@@ -291,6 +282,19 @@ TEST_CASE("LoadGrayImage reads PNG with libspng and the rest with OpenCV", "[png
   other.width = 40;
   CHECK_THAT(LoadError(dir + "/real.png", other), Contains("image is 37x23 but camera 'cam' has image_size [40, 23]"));
   CHECK_THAT(LoadError(dir + "/real.tiff", other), Contains("image is 37x23 but camera 'cam' has image_size [40, 23]"));
+}
+
+TEST_CASE("An image larger than HANDEYE_MAX_IMAGE_PIXELS is refused before it is read", "[png][bad][limits]") {
+  unsetenv("HANDEYE_MAX_IMAGE_PIXELS");
+  const std::string dir = test::TempDir("png_reader_cap");
+  // A camera that declares 65536 x 65536 and a PNG whose header says the
+  // same: before, the decoder set aside 4 GB for it (9.5 GB through detect).
+  Camera huge = SmallCamera();
+  huge.width = huge.height = 65536;
+  const std::string path = dir + "/huge.png";
+  WriteBytes(path, EncodePng(37, 23, 1, RandomPixels(37 * 23, 4), 0, 65536, 65536));
+  CHECK_THAT(LoadError(path, huge), Contains(path + ": 65536 x 65536 = 4294967296 pixels; expected at most "
+                                                    "200000000 per image (set HANDEYE_MAX_IMAGE_PIXELS"));
 }
 
 }  // namespace handeye

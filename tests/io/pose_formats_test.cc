@@ -237,7 +237,7 @@ TEST_CASE("CSV pose lists", "[io][poses][csv]") {
     FAIL("accepted:\n" + text);
   };
   require_csv_error("id,x,y,z,qw,qx,qy,qz\n1,0,0,0,1,0,0,0\n",
-                    "line 1: expected the header 'id,x,y,z,qx,qy,qz,qw'");
+                    "line 1: expected one of the headers 'id,x,y,z,qx,qy,qz,qw' (quaternion x y z w)");
   require_csv_error("id,x,y,z,qx,qy,qz,qw\n1,0,0,0,0,0,0\n", "line 2: expected 8 comma-separated fields");
   require_csv_error("id,x,y,z,qx,qy,qz,qw\n1,0,0,zero,0,0,0,1\n", "line 2: column z: expected a finite number");
   require_csv_error("id,x,y,z,qx,qy,qz,qw\n1,0,0,0,0,0,0,1\n\n1,0,0,0,0,0,0,1\n",
@@ -245,7 +245,7 @@ TEST_CASE("CSV pose lists", "[io][poses][csv]") {
   require_csv_error("id,x,y,z,qx,qy,qz,qw\n1,0,0,0,0,0,0,0.9\n", "line 2: columns qx,qy,qz,qw: expected a unit");
   require_csv_error("id,x,y,z,qx,qy,qz,qw\n,0,0,0,0,0,0,1\n", "line 2: column id: expected a pose id");
   require_csv_error("id,x,y,z,qx,qy,qz,qw\n", "no poses");
-  require_csv_error("", "empty file");
+  require_csv_error("", "empty file; expected a header row and rows: 'id,x,y,z,qx,qy,qz,qw'");
   CHECK_THROWS_WITH(ReadPoseCsv(dir + "/missing.csv", LengthUnit::kMetre, false),
                     Contains("missing.csv: file does not exist"));
 }

@@ -53,6 +53,15 @@ int RunCommand(const std::string& cmd, std::string* output) {
 
 }  // namespace
 
+std::uint32_t Crc32(const std::uint8_t* data, std::size_t n) {
+  std::uint32_t crc = 0xffffffffu;
+  for (std::size_t i = 0; i < n; ++i) {
+    crc ^= data[i];
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+  }
+  return crc ^ 0xffffffffu;
+}
+
 int RunHandeye(const std::string& args, std::string* output) {
   return RunCommand(std::string(HANDEYE_BINARY) + " " + args + " 2>&1", output);
 }

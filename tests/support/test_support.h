@@ -2,6 +2,8 @@
 #pragma once
 /// Helpers shared by the test programs.
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 
 namespace handeye::test {
@@ -19,5 +21,7 @@ int RunHandeye(const std::string& args, std::string* output);
 /// The same with stdout and stderr on a pseudo-terminal (util-linux
 /// `script`), as when a person runs it; `args` must not contain '"'.
 int RunHandeyeOnTerminal(const std::string& args, std::string* output);
+/// The CRC-32 of PNG chunks (and zlib), for tests that write PNG bytes.
+std::uint32_t Crc32(const std::uint8_t* data, std::size_t n);
 
 }  // namespace handeye::test

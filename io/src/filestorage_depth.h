@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+// OpenCV FileStorage text, checked before OpenCV reads it. How deeply it
+// nests: OpenCV 4.6's YAML, JSON and XML parsers recurse once per level with
+// no limit, and a 100 KB file nested 50 000 deep overflows the stack.
+// Internal to the io library (and its fuzz targets).
+
+#include <opencv2/core/persistence.hpp>
+#include <string>
+
+namespace handeye::internal {
+
+/// The text forms OpenCV's FileStorage reads.
+enum class FileStorageSyntax { kYaml, kJson, kXml };
+
+/// The deepest nesting of collections (YAML block and flow mappings and
+/// sequences, JSON objects and arrays, XML elements) in `text`, following
+/// where OpenCV's parsers see a collection open and close (quoted strings,
+/// flow-map keys, YAML `a: b: c` on one line). Never less than OpenCV's
+/// own depth for text OpenCV accepts; it may count a level or two more.
+/// Stops as soon as the depth passes `stop_above` and returns that depth.
+int FileStorageNestingDepth(const std::string& text, FileStorageSyntax syntax, int stop_above);
+
+/// The deepest nesting OpenCV FileStorage text may have. An intrinsics file
+/// nests 3 levels (root, matrix, data); 64 is also the limit of the YAML
+/// loader of the ROS and Kalibr files.
+constexpr int kMaxFileStorageDepth = 64;
+
+/// OpenCV FileStorage text (XML when it starts with '<', JSON with '{',
+/// else YAML, with or without the %YAML header) opened in memory, after the
+/// checks that keep OpenCV 4.6's parsers from crashing or looping: no NUL
+/// byte, no base64 value, one YAML mapping, an XML text that ends with a
+/// tag, and nesting of at most kMaxFileStorageDepth (FileStorageNestingDepth).
+/// Throws InputError(path, "", ...) for each, and when OpenCV refuses it.
+cv::FileStorage OpenFileStorageText(std::string text, const std::string& path);
+
+}  // namespace handeye::internal
