@@ -213,6 +213,8 @@ TEST_CASE("import-poses exits 2 naming an --images file that does not exist", "[
   test::WriteText(dir + "/shots/left/0001.png", "");
   test::WriteText(dir + "/shots/right/0001.png", "");
   test::WriteText(dir + "/shots/right/0002.png", "");
+  // The output's folder exists: the missing image is what is wrong here.
+  std::filesystem::create_directories(dir + "/out");
   const CurrentFolder in_dir(dir);
   std::string out;
   CHECK(test::RunHandeye("import-poses poses.csv --template template.json --images left=shots/left/{id}.png "
@@ -223,7 +225,6 @@ TEST_CASE("import-poses exits 2 naming an --images file that does not exist", "[
                            "relative to the current folder)"));
   CHECK_FALSE(std::filesystem::exists(dir + "/out/d.json"));
   test::WriteText(dir + "/shots/left/0002.png", "");
-  std::filesystem::create_directories(dir + "/out");
   REQUIRE(test::RunHandeye("import-poses poses.csv --template template.json --images left=shots/left/{id}.png "
                            "--images right=" + dir + "/shots/right/{id}.png -o out/d.json",
                            &out) == 0);
