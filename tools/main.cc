@@ -14,6 +14,7 @@
 
 #include "commands.h"
 #include "handeye/core/error.h"
+#include "handeye/core/input_limits.h"
 #include "handeye/io/image.h"
 
 namespace handeye::tools {
@@ -92,6 +93,35 @@ void PrintWarnings(const std::vector<std::string>& warnings) {
 
 namespace {
 
+// The input caps (docs/conventions.md, "Input limits"), for every command:
+// `handeye detect d.json -o o.json --max-image-pixels 3e8`. They are the
+// main command's options, taken after the subcommand's too (fallthrough), and
+// set before the subcommand runs (CLI11 runs the main command's option
+// callbacks before the subcommands' final callbacks).
+void AddInputLimitOptions(CLI::App& app) {
+  const auto positive_integer = [](const std::string& text) -> std::string {
+    try {
+      std::size_t used = 0;
+      const double value = std::stod(text, &used);
+      if (used == text.size() && value >= 1 && value <= 9007199254740992.0 && value == std::floor(value))
+        return "";
+    } catch (const std::exception&) {
+    }
+    return "expected a positive integer (3e8 is read as 300000000), got '" + text + "'";
+  };
+  app.add_option_function<double>(
+         "--max-target-points",
+         [](double points) { handeye::SetMaxTargetPoints(static_cast<std::int64_t>(points)); },
+         "largest number of points one target may have (default 20000; docs/conventions.md)")
+      ->check(positive_integer);
+  app.add_option_function<double>(
+         "--max-image-pixels",
+         [](double pixels) { handeye::SetMaxImagePixels(static_cast<std::int64_t>(pixels)); },
+         "largest width x height of one image (default 200000000; docs/conventions.md)")
+      ->check(positive_integer);
+  app.fallthrough();
+}
+
 // Parses and runs the subcommand; returns the exit code (SPEC §7).
 int Run(CLI::App& app, int argc, char** argv) {
   try {
@@ -129,6 +159,7 @@ int main(int argc, char** argv) {
   CLI::App app{"handeye: calibrates a network of cameras against an industrial robot"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "handeye " HANDEYE_VERSION);
+  AddInputLimitOptions(app);
   handeye::tools::AddRecordedSubcommands(app);
   const int code = Run(app, argc, argv);
   // A write that failed because an interrupt removed its folder ends with

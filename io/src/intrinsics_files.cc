@@ -147,6 +147,11 @@ void RequireOneOpenCvYamlMapping(const std::string& text, const std::string& pat
   }
 }
 
+InputError DeepNesting(const std::string& path) {
+  return InputError(path, "", "nested more than " + std::to_string(internal::kMaxFileStorageDepth) +
+                                  " levels deep; an intrinsics file needs 3 (camera_matrix: rows, cols, dt, data)");
+}
+
 // OpenCV 4.6's parsers recurse once per nesting level without a limit: a
 // camera_matrix nested 50 000 deep (100 KB) overflowed the stack.
 void RequireShallowNesting(const std::string& text, int format, const std::string& path) {
@@ -155,8 +160,7 @@ void RequireShallowNesting(const std::string& text, int format, const std::strin
                       : format == cv::FileStorage::FORMAT_JSON ? internal::FileStorageSyntax::kJson
                                                                : internal::FileStorageSyntax::kYaml;
   if (internal::FileStorageNestingDepth(text, syntax, kMaxFileStorageDepth) > kMaxFileStorageDepth)
-    throw InputError(path, "", "nested more than " + std::to_string(kMaxFileStorageDepth) +
-                                   " levels deep; an intrinsics file needs 3 (camera_matrix: rows, cols, dt, data)");
+    throw DeepNesting(path);
 }
 
 }  // namespace
@@ -167,6 +171,9 @@ cv::FileStorage OpenFileStorageText(std::string text, const std::string& path) {
   // OpenCV's parsers read the text as a C string (a NUL ends it early), and
   // its XML parser dereferences a null pointer when the text ends just after
   // an attribute's '=' (OpenCV 4.6; both found by fuzz/run). Neither reaches it.
+  if (text.size() > kMaxFileStorageTextBytes)
+    throw InputError(path, "", std::to_string(text.size()) + " bytes; an OpenCV intrinsics file is a few kilobytes, and at most " +
+                                   std::to_string(kMaxFileStorageTextBytes >> 20) + " MB is read");
   const std::size_t nul = text.find('\0');
   if (nul != std::string::npos)
     throw InputError(path, "", "not a text file: a NUL byte at offset " + std::to_string(nul));
@@ -191,15 +198,18 @@ cv::FileStorage OpenFileStorageText(std::string text, const std::string& path) {
   RequireShallowNesting(text, format, path);
   cv::FileStorage fs;
   try {
-    fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY | format);
+    fs = ParseFileStorageText(text, cv::FileStorage::READ | cv::FileStorage::MEMORY | format);
   } catch (const cv::Exception& e) {
     throw InputError(path, "", "not an OpenCV FileStorage file (YAML, XML or JSON): " + e.msg);
   } catch (const std::logic_error& e) {
     // OpenCV 4.6's YAML parser lets std::string throw length_error on a key
     // with no name ("  : 3" under a mapping; found by fuzz/run).
     throw InputError(path, "", std::string("not an OpenCV FileStorage file (YAML, XML or JSON): ") + e.what());
+  } catch (const std::runtime_error& e) {
+    throw InputError(path, "", std::string("could not be read: ") + e.what());
   }
   if (!fs.isOpened()) throw InputError(path, "", "not an OpenCV FileStorage file (YAML, XML or JSON)");
+  if (FileStorageTreeDepth(fs.root()) > kMaxFileStorageDepth) throw DeepNesting(path);
   return fs;
 }
 

@@ -68,7 +68,7 @@ TEST_CASE("A board of more target points than the cap is refused before its poin
     const std::string error = ErrorOf([&] { CheckerboardTarget target(Checkerboard(side, side)); });
     CHECK_THAT(error, Contains("/inner_corners: "));
     CHECK_THAT(error,
-               Contains("target points; expected at most 20000 (set HANDEYE_MAX_TARGET_POINTS"));
+               Contains("target points; expected at most 20000 (raise it with --max-target-points or HANDEYE_MAX_TARGET_POINTS"));
     CHECK_THAT(ErrorOf([&] { CharucoTarget target(Charuco(side, side), OneMarker()); }),
                Contains("/squares: ") && Contains("expected at most 20000"));
   }
@@ -114,7 +114,7 @@ TEST_CASE(
     CHECK(e.json_path() == "/cameras/0/image_size");
     CHECK_THAT(e.what(),
                Contains("65536 x 65536 = 4294967296 pixels; expected at most 200000000 per image "
-                        "(set HANDEYE_MAX_IMAGE_PIXELS"));
+                        "(raise it with --max-image-pixels or HANDEYE_MAX_IMAGE_PIXELS"));
   }
   ScopedEnvironment raise("HANDEYE_MAX_IMAGE_PIXELS", "5000000000");
   RequireImagePixelsWithinLimit(65536, 65536, "big.png", "");

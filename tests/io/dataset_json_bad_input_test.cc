@@ -339,13 +339,13 @@ TEST_CASE("Bad input: a camera or board larger than the input caps", "[io][datas
   j["cameras"][0]["image_size"] = {65536, 65536};
   RequireLoadError(j, "/cameras/0/image_size",
                    "65536 x 65536 = 4294967296 pixels; expected at most 200000000 per image "
-                   "(set HANDEYE_MAX_IMAGE_PIXELS to allow larger images)");
+                   "(raise it with --max-image-pixels or HANDEYE_MAX_IMAGE_PIXELS to allow larger images)");
   // The same board declared 20000 x 20000 asked for 12.5 GB.
   j = ValidDatasetJson();
   j["target"]["inner_corners"] = {20000, 20000};
   RequireLoadError(j, "/target/inner_corners",
                    "20000 x 20000 = 400000000 target points; expected at most 20000 "
-                   "(set HANDEYE_MAX_TARGET_POINTS to allow a larger board)");
+                   "(raise it with --max-target-points or HANDEYE_MAX_TARGET_POINTS to allow a larger board)");
 }
 
 }  // namespace

@@ -294,7 +294,7 @@ TEST_CASE("An image larger than HANDEYE_MAX_IMAGE_PIXELS is refused before it is
   const std::string path = dir + "/huge.png";
   WriteBytes(path, EncodePng(37, 23, 1, RandomPixels(37 * 23, 4), 0, 65536, 65536));
   CHECK_THAT(LoadError(path, huge), Contains(path + ": 65536 x 65536 = 4294967296 pixels; expected at most "
-                                                    "200000000 per image (set HANDEYE_MAX_IMAGE_PIXELS"));
+                                                    "200000000 per image (raise it with --max-image-pixels or HANDEYE_MAX_IMAGE_PIXELS"));
 }
 
 }  // namespace handeye

@@ -59,16 +59,40 @@ TEST_CASE("A camera or board declared too large exits 2 without allocating it", 
   CHECK(handeye::test::RunHandeye("detect " + dir + "/d.json -o " + dir + "/obs.json", &out) == 2);
   CHECK_THAT(out,
              Contains(dir + "/d.json: at /cameras/0/image_size: 65536 x 65536 = 4294967296 pixels; "
-                            "expected at most 200000000 per image (set HANDEYE_MAX_IMAGE_PIXELS"));
+                            "expected at most 200000000 per image (raise it with --max-image-pixels or HANDEYE_MAX_IMAGE_PIXELS"));
   for (const char* board : {"20000x20000", "100000x100000"}) {
     INFO(board);
     CHECK(handeye::test::RunHandeye(
               std::string("target checkerboard --board ") + board + " -o " + dir + "/b.png",
               &out) == 2);
     CHECK_THAT(out,
-               Contains("target points; expected at most 20000 (set HANDEYE_MAX_TARGET_POINTS"));
+               Contains("target points; expected at most 20000 (raise it with --max-target-points or HANDEYE_MAX_TARGET_POINTS"));
   }
   // Before, the first took 9.5 GB and the second 12.5 GB; a process that
   // stops at the header stays under 300 MB.
   CHECK(PeakChildBytes() < 300L * 1024 * 1024);
+}
+
+TEST_CASE("--max-target-points and --max-image-pixels raise or lower the caps for any command", "[cli][limits]") {
+  const std::string dir = handeye::test::TempDir("limits_cli_flags");
+  std::string out;
+  // A 30 x 30 board (900 points) is within the default; lowered to 500 it is not.
+  CHECK(handeye::test::RunHandeye("target checkerboard --board 30x30 --square 0.002 -o " + dir + "/a.png", &out) == 0);
+  CHECK(handeye::test::RunHandeye("target checkerboard --board 30x30 --square 0.002 -o " + dir + "/b.png --max-target-points 500",
+                                  &out) == 2);
+  CHECK_THAT(out, Contains("900 target points; expected at most 500"));
+  // Before the subcommand as well as after it, and over the environment variable.
+  CHECK(handeye::test::RunHandeye(
+            "--max-target-points 500 target checkerboard --board 30x30 --square 0.002 -o " + dir + "/c.png", &out) == 2);
+  CHECK(handeye::test::RunHandeye("target checkerboard --board 160x160 --square 0.001 -o " + dir + "/d.png", &out) == 2);
+  CHECK(handeye::test::RunHandeye(
+            "target checkerboard --board 160x160 --square 0.001 --max-target-points 3e4 -o " + dir + "/d.png", &out) == 0);
+  for (const char* bad : {"0", "-5", "1.5", "many"}) {
+    INFO(bad);
+    CHECK(handeye::test::RunHandeye(std::string("target checkerboard --board 9x6 -o ") + dir +
+                                        "/e.png --max-image-pixels " + bad,
+                                    &out) == 2);
+    CHECK_THAT(out, Contains("--max-image-pixels"));
+    CHECK_THAT(out, Contains("expected a positive integer"));
+  }
 }

@@ -13,9 +13,11 @@
 /// - kDefaultMaxImagePixels, 200 Mpx: above the largest machine-vision
 ///   sensors (Sony IMX411, 151 Mpx); one grey image of it is 200 MB.
 ///
-/// The environment variables HANDEYE_MAX_TARGET_POINTS and
-/// HANDEYE_MAX_IMAGE_PIXELS (a positive integer; 3e8 is read as 300000000)
-/// raise or lower them for every command; they are read at each check.
+/// SetMaxTargetPoints / SetMaxImagePixels (the command line's
+/// --max-target-points and --max-image-pixels) raise or lower them for the
+/// process; where those were not called, the environment variables
+/// HANDEYE_MAX_TARGET_POINTS and HANDEYE_MAX_IMAGE_PIXELS (a positive
+/// integer; 3e8 is read as 300000000) do, read at each check.
 
 #include <cstdint>
 #include <string>
@@ -27,12 +29,20 @@ constexpr std::int64_t kDefaultMaxTargetPoints = 20000;
 /// Default largest width x height of one image or camera.
 constexpr std::int64_t kDefaultMaxImagePixels = 200000000;
 
-/// The cap in force: HANDEYE_MAX_TARGET_POINTS, else the default. Throws
-/// InputError naming the variable when it is set but not a positive integer.
+/// The cap in force: what SetMaxTargetPoints set, else
+/// HANDEYE_MAX_TARGET_POINTS, else the default. Throws InputError naming the
+/// variable when it is set but not a positive integer.
 std::int64_t MaxTargetPoints();
-/// The cap in force: HANDEYE_MAX_IMAGE_PIXELS, else the default. Throws
-/// like MaxTargetPoints.
+/// The cap in force: what SetMaxImagePixels set, else
+/// HANDEYE_MAX_IMAGE_PIXELS, else the default. Throws like MaxTargetPoints.
 std::int64_t MaxImagePixels();
+
+/// Sets the cap for the rest of the process, over the environment variable.
+/// Throws InputError unless `points` >= 1.
+void SetMaxTargetPoints(std::int64_t points);
+/// Sets the cap for the rest of the process, over the environment variable.
+/// Throws InputError unless `pixels` >= 1.
+void SetMaxImagePixels(std::int64_t pixels);
 
 /// Throws InputError("", json_path, ...) when a target of `cols` x `rows`
 /// points (computed in 64 bits) exceeds MaxTargetPoints(), naming the count,
