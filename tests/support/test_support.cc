@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -62,8 +63,13 @@ std::uint32_t Crc32(const std::uint8_t* data, std::size_t n) {
   return crc ^ 0xffffffffu;
 }
 
+std::string HandeyeBinary() {
+  const char* other = std::getenv("HANDEYE_TEST_BINARY");
+  return other != nullptr && *other != '\0' ? other : HANDEYE_BINARY;
+}
+
 int RunHandeye(const std::string& args, std::string* output) {
-  return RunCommand(std::string(HANDEYE_BINARY) + " " + args + " 2>&1", output);
+  return RunCommand(HandeyeBinary() + " " + args + " 2>&1", output);
 }
 
 int RunHandeyeOnTerminal(const std::string& args, std::string* output) {
@@ -71,7 +77,7 @@ int RunHandeyeOnTerminal(const std::string& args, std::string* output) {
     throw std::invalid_argument("RunHandeyeOnTerminal: '\"' in the arguments");
   // -e: script exits with the program's exit code; the typescript file is
   // not wanted, the terminal's output comes through script's stdout.
-  return RunCommand("script -qec \"" + std::string(HANDEYE_BINARY) + " " + args + "\" /dev/null",
+  return RunCommand("script -qec \"" + HandeyeBinary() + " " + args + "\" /dev/null",
                     output);
 }
 

@@ -16,7 +16,9 @@ void WriteText(const std::string& path, const std::string& text);
 /// The whole content of a file, byte for byte ("" when it cannot be read).
 std::string ReadText(const std::string& path);
 /// Runs the handeye program with arguments; returns its exit code and
-/// fills *output with stdout+stderr.
+/// fills *output with stdout+stderr. The program is the build's, or the one
+/// HANDEYE_TEST_BINARY names: the CLI tests run against an older build show
+/// which of them that build fails.
 int RunHandeye(const std::string& args, std::string* output);
 /// The same with stdout and stderr on a pseudo-terminal (util-linux
 /// `script`), as when a person runs it; `args` must not contain '"'.
