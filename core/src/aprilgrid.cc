@@ -41,8 +41,9 @@ TargetSpec WithSpecKeyNames(const TargetSpec& spec) {
 
 AprilGridTarget::AprilGridTarget(const TargetSpec& spec, MarkerCodebook family)
     : family_(std::move(family)) {
-  spec.RejectUnknownKeys({"tags", "tag_size_m", "tag_spacing", "family", "border_bits", "tagCols",
-                          "tagRows", "tagSize", "tagSpacing", "min_corners", "min_border_px"});
+  spec.RejectUnknownKeys({"tags", "tag_size_m", "tag_spacing", "family", "border_bits", "first_id",
+                          "tagCols", "tagRows", "tagSize", "tagSpacing", "min_corners",
+                          "min_border_px"});
   spec_ = WithSpecKeyNames(spec);
   const auto tags = spec_.GetIntPair("tags", 1);
   cols_ = tags[0];
@@ -59,11 +60,17 @@ AprilGridTarget::AprilGridTarget(const TargetSpec& spec, MarkerCodebook family)
   border_bits_ = spec_.Has("border_bits") ? spec_.GetInt("border_bits", 1) : 2;
   if (border_bits_ > 2) throw InputError("", "/border_bits", "expected 1 or 2 (Kalibr prints 2)");
   RequireTargetPointsWithinLimit(2 * std::int64_t{cols_}, 2 * std::int64_t{rows_}, "/tags");
-  if (NumTags() > static_cast<int>(family_.codes.size()))
+  first_id_ = spec_.Has("first_id") ? spec_.GetInt("first_id", 0) : 0;
+  const int available = static_cast<int>(family_.codes.size()) - first_id_;
+  if (first_id_ >= static_cast<int>(family_.codes.size()))
+    throw InputError("", "/first_id",
+                     "expected a tag id below " + std::to_string(family_.codes.size()) +
+                         ", the size of family " + name);
+  if (NumTags() > available)
     throw InputError("", "/tags",
                      std::to_string(cols_) + "x" + std::to_string(rows_) +
-                         " tags; expected at most " + std::to_string(family_.codes.size()) +
-                         " for family " + name);
+                         " tags; expected at most " + std::to_string(available) + " for family " +
+                         name + (first_id_ > 0 ? " from id " + std::to_string(first_id_) : ""));
   if (spec_.Has("min_corners")) spec_.GetInt("min_corners", 4);
   if (spec_.Has("min_border_px")) {
     const auto* px = std::get_if<double>(&spec_.values.at("min_border_px"));
@@ -114,7 +121,7 @@ double AprilGridTarget::Albedo(double x_m, double y_m) const {
   const int r = std::clamp(static_cast<int>((pitch_m_ - lv) / bit_m_), 0, n - 1);
   if (c < border_bits_ || r < border_bits_ || c >= n - border_bits_ || r >= n - border_bits_)
     return 0.0;
-  const auto& code = family_.codes[static_cast<std::size_t>(j) * cols_ + i];
+  const auto& code = family_.codes[static_cast<std::size_t>(first_id_ + j * cols_ + i)];
   return code[static_cast<std::size_t>(r - border_bits_) * family_.bits + (c - border_bits_)];
 }
 

@@ -132,7 +132,7 @@ struct AprilGridDetector::Engine {
     const apriltag_family_t& f = *stock.family;
     // Only the grid's own tags: a smaller decoding table, and any other
     // tag36h11 tag in view cannot be mistaken for one of ours.
-    codes.assign(f.codes, f.codes + target.NumTags());
+    codes.assign(f.codes + target.first_id(), f.codes + target.first_id() + target.NumTags());
     // The bit positions count from the outer edge of the black border;
     // widening the border shifts them inwards.
     const int extra = target.border_bits() - stock.offset();

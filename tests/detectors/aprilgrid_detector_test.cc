@@ -269,3 +269,32 @@ TEST_CASE("aprilgrid: a tag seen twice is dropped, tags at the image border are 
   CHECK(fewer->ids.size() < kept->ids.size());
   for (const auto& uv : fewer->points_px) CHECK(uv.x() >= 40.0);
 }
+
+TEST_CASE("aprilgrid first_id: a grid printed from another tag id on is found, one from 0 is not",
+          "[aprilgrid][first_id]") {
+  TargetSpec from_ten = GridSpec(2, 2);
+  from_ten.values["first_id"] = 10.0;
+  const auto grid = MakeAprilGridTarget(from_ten);
+  const auto grid_from_zero = MakeAprilGridTarget(GridSpec(2, 2));
+  REQUIRE(grid->first_id() == 10);
+  const Camera camera = test::PinholeCamera(640, 480, 600);
+  const Eigen::Isometry3d T = test::ViewAt(camera, *grid, 320, 240, 600 * kTagM / 60, 0.3, 0.2);
+  RenderOptions render;
+  render.clutter = false;
+  AprilGridDetector::Options options;
+  options.min_corners = 4;
+  const AprilGridDetector detector(grid, options);
+  const auto detection = detector.Detect(RenderView(camera, *grid, T, render));
+  REQUIRE(detection);
+  CHECK(detection->ids.size() == 16);
+  for (std::size_t i = 0; i < detection->ids.size(); ++i)
+    CHECK((detection->points_px[i] - *camera.Project(T * grid->FindPoint(detection->ids[i])->p_target))
+              .norm() < 0.3);
+  // Tags 0-3 are not this grid's, and this grid's tags 10-13 not theirs.
+  CHECK_FALSE(detector.Detect(RenderView(camera, *grid_from_zero, T, render)));
+  CHECK_FALSE(AprilGridDetector(grid_from_zero, options).Detect(RenderView(camera, *grid, T, render)));
+  // The ids must exist in the family (tag36h11 has 587).
+  TargetSpec past_end = GridSpec(2, 2);
+  past_end.values["first_id"] = 585.0;
+  CHECK_THROWS_AS(MakeAprilGridTarget(past_end), InputError);
+}

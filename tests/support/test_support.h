@@ -15,6 +15,9 @@ std::string TempDir(const std::string& name);
 void WriteText(const std::string& path, const std::string& text);
 /// The whole content of a file, byte for byte ("" when it cannot be read).
 std::string ReadText(const std::string& path);
+/// The handeye program the CLI tests run: the build's, or the one
+/// HANDEYE_TEST_BINARY names.
+std::string HandeyeBinary();
 /// Runs the handeye program with arguments; returns its exit code and
 /// fills *output with stdout+stderr. The program is the build's, or the one
 /// HANDEYE_TEST_BINARY names: the CLI tests run against an older build show

@@ -89,7 +89,8 @@ TEST_CASE("a report killed while it writes leaves the old report and no temporar
   if (child == 0) {
     freopen("/dev/null", "w", stdout);
     freopen("/dev/null", "w", stderr);
-    execl(HANDEYE_BINARY, HANDEYE_BINARY, "report", (dir + "/obs.json").c_str(),
+    const std::string program = test::HandeyeBinary();
+    execl(program.c_str(), program.c_str(), "report", (dir + "/obs.json").c_str(),
           (dir + "/result.json").c_str(), "-o", rep.c_str(), "--threads", "1",
           static_cast<char*>(nullptr));
     _exit(127);

@@ -37,6 +37,11 @@ namespace handeye {
 /// the checkerboard and ChArUco. T_kalibrtarget_target = diag(1, −1, −1).
 /// The sheet adds a white margin of one gap outside the outer black squares.
 ///
+/// `first_id` (default 0, Kalibr's numbering) is the family id of tag 0: a
+/// grid printed with ids from N on, or one tag of id N alone (tags [1, 1],
+/// `first_id` N, as ViSP's and many hand-eye captures use). Point ids count
+/// from 0 whatever it is.
+///
 /// Optional keys read by the detector, accepted here: `min_corners`,
 /// `min_border_px`.
 class AprilGridTarget : public Target {
@@ -61,6 +66,8 @@ class AprilGridTarget : public Target {
   /// Gap between neighbouring tags ÷ tag size (Kalibr's tagSpacing).
   double tag_spacing() const { return spacing_; }
   int border_bits() const { return border_bits_; }
+  /// The family id of tag 0 (tag t carries id first_id() + t).
+  int first_id() const { return first_id_; }
   const MarkerCodebook& family() const { return family_; }
   /// Point ids of tag `tag_id`'s corners as printed: bottom-left,
   /// bottom-right, top-right, top-left (Kalibr's order).
@@ -69,7 +76,7 @@ class AprilGridTarget : public Target {
  private:
   TargetSpec spec_;
   MarkerCodebook family_;
-  int cols_ = 0, rows_ = 0, border_bits_ = 2;
+  int cols_ = 0, rows_ = 0, border_bits_ = 2, first_id_ = 0;
   double tag_m_ = 0, spacing_ = 0, gap_m_ = 0, pitch_m_ = 0, bit_m_ = 0;
   std::vector<TargetPoint> points_;
 };
