@@ -77,3 +77,22 @@ TEST_CASE("--poses-file and --poses do not go together; a bad pose file names it
   CHECK_THAT(output, Catch::Contains("poses.json"));
   CHECK_THAT(output, Catch::Contains("/poses/0/T_base_ee"));
 }
+
+TEST_CASE("advise names the cameras above the goal and proposes the next poses, from a capture or its result",
+          "[plan][advise]") {
+  const std::string dir = test::TempDir("advise_cli");
+  std::string output;
+  REQUIRE(test::RunHandeye("simulate " + dir + "/capture " + kScene + " --poses 8 --quiet", &output) == 0);
+  REQUIRE(test::RunHandeye("detect " + dir + "/capture/dataset.json -o " + dir + "/obs.json --quiet", &output) == 0);
+  INFO(output);
+  REQUIRE(test::RunHandeye("advise " + dir + "/obs.json --poses 2 --goal-mm 0.001 --candidates 500 -o " + dir +
+                               "/next.json",
+                           &output) == 0);
+  CHECK_THAT(output, Catch::Contains("above the goal of 0.001 mm: cam0 cam1"));
+  CHECK_THAT(output, Catch::Contains("what to capture next:"));
+  CHECK(ReadPoseFile(dir + "/next.json").size() == 2);
+  CHECK(std::filesystem::is_regular_file(dir + "/next.csv"));
+  REQUIRE(test::RunHandeye("calibrate " + dir + "/obs.json -o " + dir + "/result.json", &output) == 0);
+  REQUIRE(test::RunHandeye("advise " + dir + "/result.json --poses 1 --candidates 500", &output) == 0);
+  CHECK_THAT(output, Catch::Contains("what to capture next:"));
+}
