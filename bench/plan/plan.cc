@@ -94,6 +94,33 @@ SceneOptions Options(const std::string& cell, int cameras, int poses, std::uint6
   return options;
 }
 
+/// The plan of `planned_poses` for the sampler's cell as a user would know it;
+/// prints the worst σ it predicts for its own capture and for the sampler's.
+CapturePlan PlanFor(const SyntheticScene& sampler, std::uint64_t seed, const Settings& s) {
+  RoughKnowledge rough;
+  rough.seed = seed;
+  rough.robot_sigma_mm = s.robot_mm;
+  // The simulator turns each record by N(0, σ) about a random axis: σ/√3 per axis.
+  rough.robot_sigma_deg = s.robot_deg / std::sqrt(3.0);
+  rough.pixel_sigma_px = s.noise_px;
+  const PlanCell cell = PlanCellOfScene(sampler, rough);
+  PlanOptions plan_options;
+  plan_options.poses = s.planned_poses;
+  plan_options.seed = seed;
+  plan_options.candidates = s.candidates;
+  const CapturePlan plan = PlanCapture(cell, plan_options);
+  if (!plan.failure.empty()) return plan;
+  std::vector<Eigen::Isometry3d> sampler_poses;
+  for (const auto& pose : sampler.truth.poses) sampler_poses.push_back(pose.T_base_ee_true);
+  double sampler_worst_sigma = 0, planned_worst_sigma = 0;
+  for (const auto& [name, sigma] : PredictSigma(cell, sampler_poses))
+    sampler_worst_sigma = std::max(sampler_worst_sigma, sigma.position_mm);
+  for (const auto& [name, sigma] : plan.poses.back().sigma_after)
+    planned_worst_sigma = std::max(planned_worst_sigma, sigma.position_mm);
+  std::fprintf(stderr, "predicted worst sigma: sampler %.3f planned %.3f\n", sampler_worst_sigma, planned_worst_sigma);
+  return plan;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -129,32 +156,12 @@ int main(int argc, char** argv) {
     for (int i = 0; i < seeds; ++i) {
       const std::uint64_t seed = first_seed + i;
       SyntheticScene sampler = MakeScene(Options(cell_names[c], cameras, s.sampler_poses, seed, s), target);
-      RoughKnowledge rough;
-      rough.seed = seed;
-      rough.robot_sigma_mm = s.robot_mm;
-      // The simulator turns each record by N(0, σ) about a random axis: σ/√3 per axis.
-      rough.robot_sigma_deg = s.robot_deg / std::sqrt(3.0);
-      rough.pixel_sigma_px = s.noise_px;
-      const PlanCell cell = PlanCellOfScene(sampler, rough);
-      PlanOptions plan_options;
-      plan_options.poses = s.planned_poses;
-      plan_options.seed = seed;
-      plan_options.candidates = s.candidates;
-      const CapturePlan plan = PlanCapture(cell, plan_options);
+      const CapturePlan plan = PlanFor(sampler, seed, s);
       if (!plan.failure.empty()) {
         std::fprintf(stderr, "%s seed %llu: plan failed: %s\n", cell_names[c].c_str(), (unsigned long long)seed,
                      plan.failure.c_str());
         continue;
       }
-      std::vector<Eigen::Isometry3d> sampler_poses;
-      for (const auto& pose : sampler.truth.poses) sampler_poses.push_back(pose.T_base_ee_true);
-      double sampler_worst_sigma = 0, planned_worst_sigma = 0;
-      for (const auto& [name, sigma] : PredictSigma(cell, sampler_poses))
-        sampler_worst_sigma = std::max(sampler_worst_sigma, sigma.position_mm);
-      for (const auto& [name, sigma] : plan.poses.back().sigma_after)
-        planned_worst_sigma = std::max(planned_worst_sigma, sigma.position_mm);
-      std::fprintf(stderr, "predicted worst sigma: sampler %.3f planned %.3f\n", sampler_worst_sigma,
-                   planned_worst_sigma);
       SceneOptions planned_options = Options(cell_names[c], cameras, s.planned_poses, seed, s);
       for (const PlannedPose& pose : plan.poses) planned_options.given_poses.push_back(pose.T_base_ee);
       planned_options.num_poses = static_cast<int>(planned_options.given_poses.size());
