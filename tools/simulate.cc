@@ -12,6 +12,8 @@
 #include "cli_numbers.h"
 #include "commands.h"
 #include "handeye/core/error.h"
+#include "handeye/io/plan_json.h"
+#include "handeye/sim/plan_cell.h"
 #include "handeye/sim/simulation.h"
 #include "handeye/sim/synthetic.h"
 #include "output_paths.h"
@@ -42,6 +44,8 @@ struct SimulateArgs {
   double noise = 2.0;
   int threads = 0;
   std::string image_size;
+  std::string poses_file;  // --poses-file: render these T_base_ee
+  std::string cell_file;   // --write-cell: the cell as a planner sees it
 };
 
 InputError BadOption(const std::string& option, const std::string& expected) {
@@ -107,6 +111,10 @@ SceneOptions MakeSceneOptions(const SimulateArgs& args) {
     options.width = w;
     options.height = h;
   }
+  if (!args.poses_file.empty()) {
+    for (const PoseRow& row : ReadPoseFile(args.poses_file)) options.given_poses.push_back(row.T_base_ee);
+    options.num_poses = static_cast<int>(options.given_poses.size());
+  }
   std::string why;
   if (!options.Check(&why)) throw BadOption("", "bad scene options: expected " + why);
   return options;
@@ -133,12 +141,15 @@ void RunSimulate(const SimulateArgs& args) {
   if (!fs::is_directory(args.outdir, ec))
     throw InputError(args.outdir, "", "cannot create the output folder");
   CheckFileOutputs(
-      {{"--target-json", args.target.target_json}},
+      {{"--target-json", args.target.target_json}, {"--poses-file", args.poses_file}},
       {{"dataset.json in OUTDIR", (fs::path(args.outdir) / "dataset.json").string()},
-       {"ground_truth.json in OUTDIR", (fs::path(args.outdir) / "ground_truth.json").string()}});
+       {"ground_truth.json in OUTDIR", (fs::path(args.outdir) / "ground_truth.json").string()},
+       {"--write-cell", args.cell_file}});
 
   SyntheticScene scene = MakeScene(scene_options, target);
   WriteSimulation(&scene, render, args.outdir, args.threads, ProgressLine("rendering", args.quiet));
+  // What a user would know before capturing: the poses by tape (± 20 mm, 1°).
+  if (!args.cell_file.empty()) SavePlanCell(PlanCellOfScene(scene, RoughKnowledge{}), args.cell_file);
 
   std::size_t images = 0;
   for (const auto& pose : scene.dataset.poses) images += pose.images.size();
@@ -175,8 +186,15 @@ void RegisterSimulate(CLI::App& app) {
                   "metric-medium: METRIC's synthetic medium cell (4 cameras, fx 1371.02, 4x3 board of 50 mm)");
   cmd->add_option("--cameras", args->cameras, "number of cameras (1..64)")
       ->check(IntegerIn(1, 64, "between 1 and 64 cameras"));
-  cmd->add_option("--poses", args->poses, "number of robot poses")
-      ->check(IntegerIn(1, 100000, "between 1 and 100000 poses"));
+  auto* poses = cmd->add_option("--poses", args->poses, "number of robot poses")
+                    ->check(IntegerIn(1, 100000, "between 1 and 100000 poses"));
+  cmd->add_option("--poses-file", args->poses_file,
+                  "render exactly these true T_base_ee instead of sampling poses: a handeye-plan/1 (or any JSON "
+                  "with poses [{id, T_base_ee}]) or a CSV / YAML pose list as import-poses reads it, in metres")
+      ->excludes(poses);
+  cmd->add_option("--write-cell", args->cell_file,
+                  "also write the cell as handeye plan reads it (handeye-cell/1): camera and target poses off by "
+                  "a tape measure's error (20 mm, 1 deg), the simulator's reachable box");
   cmd->add_option("--target", args->target.type,
                   "target type: checkerboard (default), charuco or aprilgrid; each has a default sheet "
                   "(metric-medium: METRIC's 4x3 checkerboard of 50 mm)");

@@ -13,7 +13,7 @@ TEST_CASE("No --help text cites the SPEC; the ones that cite a format cite docs/
   REQUIRE(handeye::test::RunHandeye("--help", &out) == 0);
   CHECK_THAT(out, !Contains("SPEC"));
   for (const char* command : {"simulate", "detect", "calibrate", "report", "evaluate", "check",
-                              "export", "import-metric", "import-poses", "target"}) {
+                              "export", "import-metric", "import-poses", "target", "plan", "advise"}) {
     INFO(command);
     REQUIRE(handeye::test::RunHandeye(std::string(command) + " --help", &out) == 0);
     CHECK_THAT(out, !Contains("SPEC"));
@@ -21,5 +21,7 @@ TEST_CASE("No --help text cites the SPEC; the ones that cite a format cite docs/
   REQUIRE(handeye::test::RunHandeye("target --help", &out) == 0);
   CHECK_THAT(out, Contains("docs/formats.md#targets"));
   REQUIRE(handeye::test::RunHandeye("import-poses --help", &out) == 0);
+  CHECK_THAT(out, Contains("docs/formats.md"));
+  REQUIRE(handeye::test::RunHandeye("plan --help", &out) == 0);
   CHECK_THAT(out, Contains("docs/formats.md"));
 }

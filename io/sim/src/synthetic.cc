@@ -339,11 +339,12 @@ class SceneBuilder {
   void AddPose(int j) {
     char id[16];
     std::snprintf(id, sizeof id, "%04d", j + 1);
+    const bool given = !options_.given_poses.empty();
     for (int attempt = 0; attempt < kMaxAttemptsPerPose; ++attempt) {
-      const Eigen::Isometry3d T_base_ee = options_.setup == Setup::kEyeToHand
-                                              ? SampleEyeToHandPose(j)
-                                              : SampleEyeInHandPose();
-      if (!Reachable(T_base_ee)) continue;
+      const Eigen::Isometry3d T_base_ee = given ? options_.given_poses[j]
+                                          : options_.setup == Setup::kEyeToHand ? SampleEyeToHandPose(j)
+                                                                                : SampleEyeInHandPose();
+      if (!given && !Reachable(T_base_ee)) continue;
       GroundTruth::PoseTruth truth;
       truth.id = id;
       truth.T_base_ee_true = T_base_ee;
@@ -355,7 +356,7 @@ class SceneBuilder {
         obs->pose_id = id;
         truth.points_px[camera.name] = std::move(*obs);
       }
-      if (truth.points_px.empty()) continue;
+      if (truth.points_px.empty() && !given) continue;
       RobotPose pose;
       pose.id = id;
       pose.T_base_ee = T_base_ee;
@@ -434,6 +435,8 @@ bool SceneOptions::Check(std::string* why) const {
     return fail("a finite, non-negative robot translation noise (mm)");
   if (!std::isfinite(pose_noise_deg) || pose_noise_deg < 0)
     return fail("a finite, non-negative robot rotation noise (deg)");
+  if (!given_poses.empty() && static_cast<int>(given_poses.size()) != num_poses)
+    return fail("as many poses as the given list holds");
   if (swap_poses < 0 || 2 * swap_poses > num_poses)
     return fail("between 0 and half as many swapped pose pairs as poses");
   const int smaller_side = width != 0 ? std::min(width, height) : 1080;

@@ -51,6 +51,10 @@ struct SceneOptions {
   double bump_mm = 0.0, bump_deg = 0.0;
   /// A point counts as visible when it projects at least this far inside the image.
   double border_margin_px = 4.0;
+  /// Non-empty: these true T_base_ee, in this order, instead of the
+  /// sampler's (a plan to check end to end); num_poses must equal their
+  /// number. Each is kept even when no camera sees the target from it.
+  std::vector<Eigen::Isometry3d> given_poses;
 
   /// False, with the reason in `*why`, for an unknown cell or a value out of
   /// its domain. MakeScene() checks too.

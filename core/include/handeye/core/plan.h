@@ -1,0 +1,141 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// @file
+/// Capture planning (`handeye plan`, `handeye advise`): which robot poses to
+/// record so that every camera's pose is determined to a goal, chosen before
+/// the robot moves from what is roughly known about the cell.
+///
+/// The predicted σ of a camera is the one the joint solve reports for noise
+/// of the given size: the inverse of the Fisher information of the chain
+/// T_cam_mount · T_mount_holder[j] · T_holder_target, built from the solver's
+/// own cost functions (ViewReprojectionWithRobotError, RobotPosePrior), with
+/// every robot pose a block under the robot's error prior (marginalised per
+/// pose), the detection noise σ on every target point, and the camera and
+/// target intrinsics that are unknowns of the solve (fx, fy, cx, cy of the
+/// cameras marked for refinement) as further blocks.
+
+#include <Eigen/Geometry>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "handeye/core/camera.h"
+#include "handeye/core/dataset.h"
+#include "handeye/core/target.h"
+
+namespace handeye {
+
+/// A camera as known before the capture.
+struct PlanCamera {
+  Camera camera;  ///< name, image size, intrinsics (a guess when `refine_intrinsics`)
+  /// Its rough pose: T_base_cam (eye_to_hand) or T_ee_cam (eye_in_hand).
+  Eigen::Isometry3d T_mount_cam = Eigen::Isometry3d::Identity();
+  /// How far the rough pose may be off (the user's ±): metres, radians.
+  double position_sigma_m = 0.1;
+  double rotation_sigma_rad = 10.0 * M_PI / 180.0;
+  /// fx, fy, cx, cy will be unknowns of the solve (`--refine-intrinsics
+  /// focal,principal_point`, or intrinsics not given): views at varied
+  /// depths are then needed to tell focal length from distance.
+  bool refine_intrinsics = false;
+};
+
+/// Where the robot may put the flange.
+struct PlanRegion {
+  /// Box for the flange position (T_base_ee's translation) in the base
+  /// frame, metres; unset: only `taught` poses are candidates.
+  std::optional<Eigen::AlignedBox3d> box;
+  /// Poses the user taught (T_base_ee); candidates as they are.
+  std::vector<Eigen::Isometry3d> taught;
+  /// The tool's z axis (T_base_ee's third column) stays within max_tilt_rad
+  /// of `tilt_axis` (base frame, unit); max_tilt_rad ≥ π: no limit.
+  Eigen::Vector3d tilt_axis = Eigen::Vector3d::UnitZ();
+  double max_tilt_rad = M_PI;
+};
+
+/// What a camera needs to detect the target in a view.
+struct ViewConstraints {
+  double margin_px = 20;            ///< the whole target this far inside the image
+  double max_view_angle_deg = 60;   ///< from face-on
+  double min_square_px = 12;        ///< spacing of neighbouring target points, pixels
+};
+
+/// What is known before the capture (the CELL file).
+struct PlanCell {
+  Setup setup = Setup::kEyeToHand;
+  std::shared_ptr<const Target> target;
+  std::vector<PlanCamera> cameras;
+  /// Rough T_ee_target (eye_to_hand) or T_base_target (eye_in_hand) and its ±.
+  Eigen::Isometry3d T_holder_target = Eigen::Isometry3d::Identity();
+  double target_position_sigma_m = 0.05;
+  double target_rotation_sigma_rad = 10.0 * M_PI / 180.0;
+  double pixel_sigma_px = 0.2;       ///< detection noise σ per image axis
+  double robot_sigma_mm = 0.3;       ///< robot pose error σ per axis of the flange position
+  double robot_sigma_deg = 0.03;     ///< and of its rotation
+  PlanRegion region;
+  ViewConstraints constraints;
+  bool Check(std::string* why) const;
+};
+
+/// Predicted 1σ of one camera's pose (as CameraResult::sigma: sqrt of the
+/// trace of the position and rotation covariance).
+struct PredictedSigma {
+  double position_mm = 0;
+  double rotation_deg = 0;
+};
+
+/// One planned pose.
+struct PlannedPose {
+  std::string id;
+  Eigen::Isometry3d T_base_ee = Eigen::Isometry3d::Identity();
+  std::vector<std::string> cameras;  ///< which cameras see the whole target
+  /// Per camera: the σ predicted once this pose and every earlier one is recorded.
+  std::map<std::string, PredictedSigma> sigma_after;
+};
+
+/// How to plan.
+struct PlanOptions {
+  int poses = 12;           ///< how many poses (the most, with goal_mm)
+  double goal_mm = 0;       ///< > 0: stop at the fewest poses whose worst σ is within it
+  std::uint64_t seed = 1;   ///< candidate sampling
+  int candidates = 3000;    ///< candidates drawn in the box
+  bool Check(std::string* why) const;
+};
+
+/// A plan, or why none reaches what was asked.
+struct CapturePlan {
+  std::vector<PlannedPose> poses;
+  /// Empty when the plan does what was asked; else why not (a region no
+  /// camera sees, a goal out of reach): `handeye plan` exits 3 with it.
+  std::string failure;
+  /// The worst camera's σ after the last pose (the best reachable when the goal is not).
+  double worst_position_mm = 0;
+  std::string worst_camera;
+  int candidates = 0;  ///< candidates that passed the constraints
+};
+
+/// Chooses poses greedily by the information they add (see the file comment),
+/// each in the region, within the tilt limits and seen by at least one camera
+/// under the constraints (with the rough poses' ± as extra margin).
+/// `recorded`: poses already captured with the cameras that saw the target
+/// (advise), counted first and not output.
+CapturePlan PlanCapture(const PlanCell& cell, const PlanOptions& options,
+                        const std::vector<PlannedPose>& recorded = {});
+
+/// The σ predicted per camera for exactly these poses (their views under the constraints).
+std::map<std::string, PredictedSigma> PredictSigma(const PlanCell& cell,
+                                                   const std::vector<Eigen::Isometry3d>& poses);
+
+/// The σ predicted per camera for poses already recorded, each with the cameras that saw the target.
+std::map<std::string, PredictedSigma> PredictSigmaOfViews(const PlanCell& cell,
+                                                          const std::vector<PlannedPose>& recorded);
+
+/// Which cameras see the whole target at T_base_ee under the cell's constraints.
+std::vector<std::string> CamerasSeeing(const PlanCell& cell, const Eigen::Isometry3d& T_base_ee);
+
+/// True when T_base_ee lies in the region's box (when it has one; taught poses
+/// count as in it) and within its tilt limits.
+bool InRegion(const PlanRegion& region, const Eigen::Isometry3d& T_base_ee);
+
+}  // namespace handeye

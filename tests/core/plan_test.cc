@@ -1,0 +1,198 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Capture planning (core/plan.h): its information is the solve's, its poses
+// stay in the region, and it says when a goal or a camera is out of reach.
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <cmath>
+
+#include "handeye/core/checkerboard.h"
+#include "handeye/core/plan.h"
+#include "handeye/core/plan_advice.h"
+#include "handeye/core/uncertainty.h"
+#include "handeye/sim/plan_cell.h"
+#include "handeye/sim/synthetic.h"
+#include "plan_internal.h"
+
+using namespace handeye;
+
+namespace {
+
+SyntheticScene MediumScene(int poses, std::uint64_t seed = 3) {
+  SceneOptions options;
+  options.cell = "medium";
+  options.num_cameras = 4;
+  options.num_poses = poses;
+  options.seed = seed;
+  return MakeScene(options, std::make_shared<const CheckerboardTarget>(7, 4, 0.04));
+}
+
+/// The cell at the truth, with the rough poses' ± so wide that their prior
+/// weighs nothing beside the views (and no view margin for it).
+PlanCell CellAtTruth(const SyntheticScene& scene, double robot_mm, double robot_deg) {
+  RoughKnowledge rough;
+  rough.position_mm = 1e-9;
+  rough.rotation_deg = 1e-9;
+  rough.robot_sigma_mm = robot_mm;
+  rough.robot_sigma_deg = robot_deg;
+  rough.pixel_sigma_px = 0.3;
+  PlanCell cell = PlanCellOfScene(scene, rough);
+  for (PlanCamera& camera : cell.cameras) {
+    camera.position_sigma_m = 1e3;
+    camera.rotation_sigma_rad = 3.0;
+  }
+  cell.target_position_sigma_m = 1e3;
+  cell.target_rotation_sigma_rad = 3.0;
+  return cell;
+}
+
+/// The predicted σ per camera for the scene's own views (those the simulator found).
+std::vector<PredictedSigma> SigmaOfSceneViews(const SyntheticScene& scene, const PlanCell& cell) {
+  const plan_internal::Model model = plan_internal::MakeModel(cell);
+  Eigen::MatrixXd information = model.prior;
+  for (const auto& pose : scene.truth.poses) {
+    std::vector<int> cameras;
+    for (const auto& [name, obs] : pose.points_px) cameras.push_back(scene.dataset.CameraIndex(name));
+    information += plan_internal::PoseInformation(model, pose.T_base_ee_true, cameras);
+  }
+  return plan_internal::SigmaOf(model, information);
+}
+
+}  // namespace
+
+TEST_CASE("Without robot error the planner's sigma is the Cramer-Rao bound of the solve", "[plan]") {
+  SyntheticScene scene = MediumScene(15);
+  std::mt19937_64 rng(1);
+  AddProjectedObservations(&scene, 0.0, &rng);
+  CalibrationResult at;
+  for (const Camera& camera : scene.dataset.cameras) {
+    CameraResult c;
+    c.name = camera.name;
+    c.calibrated = true;
+    c.T_cam = scene.truth.T_cam.at(camera.name);
+    at.cameras.push_back(c);
+  }
+  at.T_target = scene.truth.T_target;
+  const PositionCovariance bound = ComputePositionCovariance(scene.dataset, at, 0.3);
+  const std::vector<PredictedSigma> sigma = SigmaOfSceneViews(scene, CellAtTruth(scene, 0, 0));
+  for (size_t k = 0; k < sigma.size(); ++k) {
+    const double expected_mm = 1000.0 * std::sqrt(bound.camera_position.at(scene.dataset.cameras[k].name).trace());
+    INFO(scene.dataset.cameras[k].name);
+    CHECK(sigma[k].position_mm == Approx(expected_mm).epsilon(0.01));
+  }
+}
+
+TEST_CASE("The robot's error prior makes every camera's predicted sigma larger", "[plan]") {
+  const SyntheticScene scene = MediumScene(15);
+  const std::vector<PredictedSigma> exact = SigmaOfSceneViews(scene, CellAtTruth(scene, 0, 0));
+  const std::vector<PredictedSigma> robot = SigmaOfSceneViews(scene, CellAtTruth(scene, 0.3, 0.03));
+  for (size_t k = 0; k < exact.size(); ++k) {
+    CHECK(robot[k].position_mm > 1.05 * exact[k].position_mm);
+    CHECK(robot[k].rotation_deg > exact[k].rotation_deg);
+  }
+}
+
+TEST_CASE("Planned poses lie in the region and the tilt limits, and each adds what it says", "[plan]") {
+  const SyntheticScene scene = MediumScene(1);
+  PlanCell cell = PlanCellOfScene(scene, RoughKnowledge{});
+  cell.region.box = Eigen::AlignedBox3d(Eigen::Vector3d(-0.8, -0.8, 0.8), Eigen::Vector3d(0.8, 0.8, 1.4));
+  // The tool axis within 70 degrees of horizontal-outward is not a box rule:
+  // tilt it about the vertical instead, within 100 degrees of up.
+  cell.region.tilt_axis = Eigen::Vector3d::UnitZ();
+  cell.region.max_tilt_rad = 100.0 * M_PI / 180.0;
+  PlanOptions options;
+  options.poses = 12;
+  options.candidates = 1500;
+  const CapturePlan plan = PlanCapture(cell, options);
+  INFO(plan.failure);
+  REQUIRE(plan.failure.empty());
+  REQUIRE(plan.poses.size() == 12);
+  std::vector<Eigen::Isometry3d> so_far;
+  std::map<std::string, double> previous;
+  for (const PlannedPose& pose : plan.poses) {
+    CHECK(cell.region.box->contains(pose.T_base_ee.translation()));
+    CHECK(std::acos(pose.T_base_ee.linear().col(2).z()) <= cell.region.max_tilt_rad + 1e-9);
+    CHECK(InRegion(cell.region, pose.T_base_ee));
+    CHECK_FALSE(pose.cameras.empty());
+    CHECK(CamerasSeeing(cell, pose.T_base_ee) == pose.cameras);
+    so_far.push_back(pose.T_base_ee);
+    for (const auto& [name, sigma] : pose.sigma_after) {
+      if (previous.count(name)) CHECK(sigma.position_mm <= previous[name] * (1 + 1e-9));
+      previous[name] = sigma.position_mm;
+    }
+  }
+  // The σ after the last pose is that of the whole list.
+  for (const auto& [name, sigma] : PredictSigma(cell, so_far))
+    CHECK(sigma.position_mm == Approx(plan.poses.back().sigma_after.at(name).position_mm).epsilon(1e-6));
+  // Every camera is covered.
+  for (const auto& [name, sigma] : plan.poses.back().sigma_after) CHECK(sigma.position_mm < 5.0);
+}
+
+TEST_CASE("With a goal the plan has the fewest poses that reach it, or says it is out of reach", "[plan]") {
+  const SyntheticScene scene = MediumScene(1);
+  const PlanCell cell = PlanCellOfScene(scene, RoughKnowledge{});
+  PlanOptions options;
+  options.poses = 10;
+  options.candidates = 800;
+  const CapturePlan ten = PlanCapture(cell, options);
+  REQUIRE(ten.failure.empty());
+  auto worst_after = [&](size_t n) {
+    double worst = 0;
+    for (const auto& [name, sigma] : ten.poses[n - 1].sigma_after) worst = std::max(worst, sigma.position_mm);
+    return worst;
+  };
+  options.goal_mm = worst_after(7);
+  options.poses = 60;
+  const CapturePlan goal = PlanCapture(cell, options);
+  CHECK(goal.failure.empty());
+  CHECK(goal.poses.size() == 7);
+  CHECK(goal.worst_position_mm <= options.goal_mm);
+  CHECK(worst_after(6) > options.goal_mm);
+
+  options.goal_mm = 1e-4;
+  options.poses = 5;
+  const CapturePlan unreachable = PlanCapture(cell, options);
+  CHECK(unreachable.poses.size() == 5);
+  CHECK_THAT(unreachable.failure, Catch::Contains("not reached within 5 poses: the best reachable is"));
+}
+
+TEST_CASE("A region no camera can see is a failure that says so", "[plan]") {
+  const SyntheticScene scene = MediumScene(1);
+  PlanCell cell = PlanCellOfScene(scene, RoughKnowledge{});
+  // Below the floor, where the target is never in view of the cameras high on the walls.
+  cell.region.box = Eigen::AlignedBox3d(Eigen::Vector3d(-0.05, -0.05, -3.0), Eigen::Vector3d(0.05, 0.05, -2.9));
+  PlanOptions options;
+  options.candidates = 300;
+  const CapturePlan plan = PlanCapture(cell, options);
+  CHECK(plan.poses.empty());
+  CHECK_THAT(plan.failure, Catch::Contains("no pose in the region lets any camera see the whole target"));
+}
+
+TEST_CASE("Advice after a capture that left a camera at 4 views goes to that camera", "[plan][advise]") {
+  SyntheticScene scene = MediumScene(24, 8);
+  std::mt19937_64 rng(2);
+  AddProjectedObservations(&scene, 0.2, &rng);
+  // Keep only the first 4 views of cam0.
+  int kept = 0;
+  std::vector<Observation> observations;
+  for (const Observation& obs : scene.dataset.observations)
+    if (obs.camera != "cam0" || kept++ < 4) observations.push_back(obs);
+  scene.dataset.observations = observations;
+  const CalibrationResult result = Calibrate(scene.dataset, CalibrationOptions{});
+  const PlanCell cell = PlanCellOfResult(scene.dataset, result, std::nullopt);
+  std::string why;
+  REQUIRE(cell.Check(&why));
+  const std::vector<PlannedPose> recorded = RecordedPoses(scene.dataset, result);
+  PlanOptions options;
+  options.poses = 4;
+  options.candidates = 1500;
+  options.goal_mm = 1e-3;  // far below: names every camera, proposes all 4
+  const Advice advice = Advise(cell, recorded, options);
+  REQUIRE(advice.next.poses.size() == 4);
+  CHECK(advice.above_goal.size() == scene.dataset.cameras.size());
+  // Every proposal is seen by cam0, which it needs most, and halves its σ.
+  for (const PlannedPose& pose : advice.next.poses)
+    CHECK(std::find(pose.cameras.begin(), pose.cameras.end(), "cam0") != pose.cameras.end());
+  const double after = advice.next.poses.back().sigma_after.at("cam0").position_mm;
+  CHECK(after < 0.5 * advice.now.at("cam0").position_mm);
+  for (const PlannedPose& pose : advice.next.poses) CHECK(InRegion(cell.region, pose.T_base_ee));
+}
