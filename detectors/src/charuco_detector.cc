@@ -4,10 +4,13 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <map>
+#include <set>
 #include <opencv2/aruco/charuco.hpp>
 #include <stdexcept>
 #include <utility>
+#include <variant>
 
+#include "charuco_growth.h"
 #include "charuco_layout.h"
 #include "corner_refinement.h"
 #include "grid_patch.h"
@@ -203,6 +206,57 @@ std::string CharucoDetector::LayoutMismatch(
   return "";
 }
 
+std::variant<Eigen::Vector2d, const char*> CharucoDetector::RefineCorner(
+    const cv::Mat& gray, int id, const Eigen::Matrix3d& H, const Eigen::Vector2d& guess,
+    const std::vector<Eigen::Vector2d>& board_xy,
+    const std::vector<Eigen::Vector2d>& image_uv) const {
+  const double L = target_->square_size_m();
+  const Eigen::Vector2d xy = target_->FindPoint(id)->p_target.head<2>();
+  const Eigen::Vector2d predicted = internal::ApplyHomography(H, xy);
+  // A square's extent in the image along its most foreshortened direction
+  // (the smaller singular value of the local map): refinement windows and
+  // tolerances must fit that way too.
+  Eigen::Matrix2d square_image;
+  square_image.col(0) = internal::ApplyHomography(H, xy + Eigen::Vector2d(L, 0)) - predicted;
+  square_image.col(1) = internal::ApplyHomography(H, xy + Eigen::Vector2d(0, L)) - predicted;
+  const double square_px = Eigen::JacobiSVD<Eigen::Matrix2d>(square_image).singularValues()(1);
+  if (!(square_px >= kMinSquarePx && square_px < std::max(gray.cols, gray.rows)))
+    return "refinement";
+  const double tolerance_px =
+      std::max(options_.min_homography_tolerance_px, options_.homography_tolerance * square_px);
+  for (std::size_t k = 0; k < board_xy.size(); ++k)
+    if ((internal::ApplyHomography(H, board_xy[k]) - image_uv[k]).norm() > tolerance_px)
+      return "homography";
+  // The refinement window is the image of a disc of 0.6 squares around the
+  // corner (capped at 30 px), so it follows the black squares' edges for
+  // most of their length (the neighbouring corners' crossing edges stay a
+  // square away); the two markers, grown by 2 px of blur and gradient
+  // stencil, are left out, since their edges would pull the estimate. On
+  // rendered 1920x1080 views with 20-40 px markers the mean corner error
+  // was 0.043 px with a disc inside the marker margins, 0.020 px with 0.45
+  // squares and the markers left out, 0.018 px with 0.6.
+  Eigen::Matrix2d window = kWindowSquares * square_image;
+  const double widest_px = Eigen::JacobiSVD<Eigen::Matrix2d>(window).singularValues()(0);
+  if (widest_px > kMaxWindowPx) window *= kMaxWindowPx / widest_px;
+  const Eigen::Matrix3d board_from_image = H.inverse();
+  const double grow_m = 2.0 * L / square_px;
+  std::array<Eigen::AlignedBox2d, 2> marker_boxes;
+  for (int k = 0; k < 2; ++k) {
+    const auto corners = target_->MarkerCorners(target_->MarkersAtCorner(id)[k]);
+    marker_boxes[k] =
+        Eigen::AlignedBox2d(corners[0].head<2>() - Eigen::Vector2d::Constant(grow_m),
+                            corners[2].head<2>() + Eigen::Vector2d::Constant(grow_m));
+  }
+  const auto off_markers = [&](int x, int y) {
+    const Eigen::Vector2d q = internal::ApplyHomography(board_from_image, Eigen::Vector2d(x, y));
+    return !marker_boxes[0].contains(q) && !marker_boxes[1].contains(q);
+  };
+  const auto refined = internal::RefineXCorner(gray, guess, window, tolerance_px, off_markers);
+  if (!refined) return "refinement";
+  if ((*refined - predicted).norm() > tolerance_px) return "homography";
+  return *refined;
+}
+
 std::optional<Detection> CharucoDetector::Find(const cv::Mat& gray,
                                                std::vector<CharucoRejection>* rejected,
                                                std::string* mismatch) const {
@@ -284,67 +338,37 @@ std::optional<Detection> CharucoDetector::Find(const cv::Mat& gray,
       reject(id, "homography");
       continue;
     }
-    const Eigen::Vector2d xy = point->p_target.head<2>();
-    const Eigen::Vector2d predicted = internal::ApplyHomography(*H, xy);
-    // A square's extent in the image along its most foreshortened direction
-    // (the smaller singular value of the local map): refinement windows and
-    // tolerances must fit that way too.
-    Eigen::Matrix2d square_image;
-    square_image.col(0) = internal::ApplyHomography(*H, xy + Eigen::Vector2d(L, 0)) - predicted;
-    square_image.col(1) = internal::ApplyHomography(*H, xy + Eigen::Vector2d(0, L)) - predicted;
-    const double square_px = Eigen::JacobiSVD<Eigen::Matrix2d>(square_image).singularValues()(1);
-    if (!(square_px >= kMinSquarePx && square_px < std::max(gray.cols, gray.rows))) {
-      reject(id, "refinement");
+    const auto refined = RefineCorner(gray, id, *H, ToEigen(interpolated[i]), board_xy, image_uv);
+    if (const auto* reason = std::get_if<const char*>(&refined)) {
+      reject(id, *reason);
       continue;
     }
-    const double tolerance_px =
-        std::max(options_.min_homography_tolerance_px, options_.homography_tolerance * square_px);
-    bool markers_agree = true;
-    for (std::size_t k = 0; k < board_xy.size(); ++k)
-      markers_agree =
-          markers_agree &&
-          (internal::ApplyHomography(*H, board_xy[k]) - image_uv[k]).norm() <= tolerance_px;
-    if (!markers_agree) {
-      reject(id, "homography");
-      continue;
-    }
-    // The refinement window is the image of a disc of 0.6 squares around the
-    // corner (capped at 30 px), so it follows the black squares' edges for
-    // most of their length (the neighbouring corners' crossing edges stay a
-    // square away); the two markers, grown by 2 px of blur and gradient
-    // stencil, are left out, since their edges would pull the estimate. On
-    // rendered 1920x1080 views with 20-40 px markers the mean corner error
-    // was 0.043 px with a disc inside the marker margins, 0.020 px with 0.45
-    // squares and the markers left out, 0.018 px with 0.6.
-    Eigen::Matrix2d window = kWindowSquares * square_image;
-    const double widest_px = Eigen::JacobiSVD<Eigen::Matrix2d>(window).singularValues()(0);
-    if (widest_px > kMaxWindowPx) window *= kMaxWindowPx / widest_px;
-    const Eigen::Matrix3d board_from_image = H->inverse();
-    const double grow_m = 2.0 * L / square_px;
-    std::array<Eigen::AlignedBox2d, 2> marker_boxes;
-    for (int k = 0; k < 2; ++k) {
-      const auto corners = target_->MarkerCorners(target_->MarkersAtCorner(id)[k]);
-      marker_boxes[k] =
-          Eigen::AlignedBox2d(corners[0].head<2>() - Eigen::Vector2d::Constant(grow_m),
-                              corners[2].head<2>() + Eigen::Vector2d::Constant(grow_m));
-    }
-    const auto off_markers = [&](int x, int y) {
-      const Eigen::Vector2d q = internal::ApplyHomography(board_from_image, Eigen::Vector2d(x, y));
-      return !marker_boxes[0].contains(q) && !marker_boxes[1].contains(q);
-    };
-    const auto refined =
-        internal::RefineXCorner(gray, ToEigen(interpolated[i]), window, tolerance_px, off_markers);
-    if (!refined) {
-      reject(id, "refinement");
-      continue;
-    }
-    if ((*refined - predicted).norm() > tolerance_px) {
-      reject(id, "homography");
-      continue;
-    }
-    found.emplace_back(id, *refined);
+    found.emplace_back(id, std::get<Eigen::Vector2d>(refined));
   }
 
+  // A board seen obliquely: its far markers do not decode, but its squares'
+  // corners are still there, and the markers that do decode number them.
+  if (found.size() < target_->Points().size()) {
+    const auto refine = [&](int id, const Eigen::Matrix3d& H, const Eigen::Vector2d& guess) {
+      std::optional<Eigen::Vector2d> uv;
+      if (guess.x() < 0 || guess.y() < 0 || guess.x() > gray.cols - 1 || guess.y() > gray.rows - 1)
+        return uv;
+      const auto refined = RefineCorner(gray, id, H, guess, {}, {});
+      if (const auto* found_uv = std::get_if<Eigen::Vector2d>(&refined)) uv = *found_uv;
+      return uv;
+    };
+    const auto added = internal::GrowCharucoCorners(*target_, kept_ids, kept_corners, found, refine);
+    if (rejected && !added.empty()) {
+      std::set<int> now_found;
+      for (const auto& [id, uv] : added) now_found.insert(id);
+      rejected->erase(std::remove_if(rejected->begin(), rejected->end(),
+                                     [&](const CharucoRejection& r) {
+                                       return now_found.count(r.corner_id) > 0;
+                                     }),
+                      rejected->end());
+    }
+    found.insert(found.end(), added.begin(), added.end());
+  }
   if (static_cast<int>(found.size()) < options_.min_corners) return none();
   std::sort(found.begin(), found.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });

@@ -252,3 +252,48 @@ TEST_CASE("charuco: corners all on one line are no view; min_corners from the ta
     CHECK(detection->ids.size() == 24);
   }
 }
+
+TEST_CASE("charuco seen at 60-70 degrees: the decoded markers number the corners of the rest",
+          "[charuco][oblique]") {
+  // A cell camera (1920x1080, fx 1371) sees a 7x5 board of 28 px squares
+  // (20 px markers, 2.9 px per bit) face-on; tilted by 60-70 degrees its far
+  // markers no longer decode, so the corners between two decoded markers
+  // were all that was found. Every corner of a view found is one square from
+  // others on the board: grown from the decoded markers, all 24 are found.
+  const auto board = MakeCharucoTarget(BoardSpec());
+  const CharucoDetector detector(board);
+  const Camera camera = test::PinholeCamera(1920, 1080, 1371);
+  const double distance = 1371 * kSquareM / 28;
+  int views_found = 0, complete = 0, wrong = 0;
+  std::vector<double> errors;
+  for (int k = 0; k < 12; ++k) {
+    const double tilt = (60 + 10 * (k + 0.5) / 12) * M_PI / 180;
+    const Eigen::Isometry3d T =
+        test::ViewAt(camera, *board, 960 + 40 * (k % 3), 540 - 30 * (k % 4), distance,
+                     2 * M_PI * k / 12 + 0.2, tilt);
+    RenderOptions render;
+    render.blur_sigma_px = 0.6 + 0.05 * k;
+    render.noise_sigma = 2 + 0.3 * k;
+    render.seed = 700 + k;
+    const auto detection = detector.Detect(RenderView(camera, *board, T, render));
+    if (!detection) continue;
+    ++views_found;
+    complete += detection->ids.size() == board->Points().size();
+    for (std::size_t i = 0; i < detection->ids.size(); ++i) {
+      const auto truth = camera.Project(T * board->FindPoint(detection->ids[i])->p_target);
+      const double error = truth ? (detection->points_px[i] - *truth).norm() : 1e9;
+      if (error > kWrongPx)
+        ++wrong;
+      else
+        errors.push_back(error);
+    }
+  }
+  double mean_error = 0;
+  for (double e : errors) mean_error += e / static_cast<double>(errors.size());
+  INFO(views_found << " of 12 views found, " << complete << " with all corners, " << wrong
+                   << " wrong ids, mean error " << mean_error << " px");
+  CHECK(views_found >= 4);
+  CHECK(complete == views_found);
+  CHECK(wrong == 0);
+  CHECK(mean_error <= 0.15);
+}

@@ -6,6 +6,8 @@
 
 #include <memory>
 #include <string>
+#include <utility>
+#include <variant>
 #include <vector>
 
 #include "handeye/core/charuco.h"
@@ -39,7 +41,12 @@ struct CharucoRejection {
 /// (opencv_contrib issues 3301, 3367), so each corner is then refined to the
 /// X junction of its two black squares and kept only when it agrees with the
 /// local homography of its two markers' eight corners, and when those eight
-/// fit one homography. A view needs `min_corners` corners that are not all
+/// fit one homography. Corners whose markers did not decode (the far side of
+/// a board seen obliquely) are then grown from the known ones one square at
+/// a time (internal::GrowCharucoCorners): predicted by the homography of the
+/// known points within two squares and refined the same way; only when at
+/// least three markers decoded and all of them fit one homography of the
+/// board, so a misread marker numbers nothing. A view needs `min_corners` corners that are not all
 /// on one line of the board; on images of 480 px and more a side, it also
 /// needs a 3 x 2 block of the board's corners (a quick first stage that
 /// spares images without the board OpenCV's marker search).
@@ -84,6 +91,14 @@ class CharucoDetector : public Detector {
   /// another layout and not the declared one; empty otherwise.
   std::string LayoutMismatch(const std::vector<int>& ids,
                              const std::vector<std::vector<cv::Point2f>>& corners) const;
+  /// Corner `id` refined from `guess` (pixels) with the local homography `H`
+  /// (target plane, metres, to the image), which must map `board_xy` within
+  /// tolerance of `image_uv`; or why it was left out ("refinement" or
+  /// "homography", CharucoRejection).
+  std::variant<Eigen::Vector2d, const char*> RefineCorner(
+      const cv::Mat& gray, int id, const Eigen::Matrix3d& H, const Eigen::Vector2d& guess,
+      const std::vector<Eigen::Vector2d>& board_xy,
+      const std::vector<Eigen::Vector2d>& image_uv) const;
   struct OpenCvState;
   std::shared_ptr<const CharucoTarget> target_;
   Options options_;
