@@ -73,7 +73,7 @@ TEST_CASE("A camera or board declared too large exits 2 without allocating it", 
   CHECK(PeakChildBytes() < 300L * 1024 * 1024);
 }
 
-TEST_CASE("--max-target-points and --max-image-pixels raise or lower the caps for any command", "[cli][limits]") {
+TEST_CASE("The flags --max-target-points and --max-image-pixels raise or lower the caps for any command", "[cli][limits]") {
   const std::string dir = handeye::test::TempDir("limits_cli_flags");
   std::string out;
   // A 30 x 30 board (900 points) is within the default; lowered to 500 it is not.

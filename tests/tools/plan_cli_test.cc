@@ -67,7 +67,7 @@ TEST_CASE("plan exits 3 with the best sigma reachable when the goal is out of re
   CHECK_THAT(output, Catch::Contains("the goal of 0.0001 mm is not reached within 3 poses: the best reachable is"));
 }
 
-TEST_CASE("--poses-file and --poses do not go together; a bad pose file names itself", "[plan][simulate]") {
+TEST_CASE("simulate: --poses-file and --poses do not go together; a bad pose file names itself", "[plan][simulate]") {
   const std::string dir = test::TempDir("poses_file_bad");
   test::WriteText(dir + "/poses.json", R"({"poses": [{"id": "1", "T_base_ee": [[1, 0, 0, 0.5]]}]})");
   std::string output;
