@@ -78,7 +78,9 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
                                         : "only " + std::to_string(drift.views) + " usable new view" +
                                               (drift.views == 1 ? "" : "s") + ", at least " +
                                               std::to_string(options.min_views) + " needed";
-      out.warnings.push_back("camera '" + cam.name + "': " + drift.reason + ": not checked");
+      out.warnings.push_back(
+          CameraWarning(WarningKind::kDriftNotChecked, cam.name,
+                        "camera '" + cam.name + "': " + drift.reason + ": not checked"));
       out.cameras.push_back(drift);
       continue;
     }
@@ -142,9 +144,10 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
         << " deg from its calibrated pose, within 3σ of the noise of the check (± "
         << drift.sigma_mm << " mm / ± " << drift.sigma_deg << " deg)";
       drift.reason = w.str();
-      out.warnings.push_back(
+      out.warnings.push_back(CameraWarning(
+          WarningKind::kDriftWithinNoise, cam.name,
           "camera '" + cam.name + "' " + drift.reason +
-          ": not called moved; take more poses with the target in its view to tell");
+              ": not called moved; take more poses with the target in its view to tell"));
     }
     else if (drift.sigma_mm > 0.5 * options.tolerance_mm || drift.sigma_deg > 0.5 * options.tolerance_deg) {
       std::ostringstream w;
@@ -152,7 +155,7 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
       w << "camera '" << cam.name << "': its " << drift.views << " new views know it to ± " << drift.sigma_mm
         << " mm / ± " << drift.sigma_deg << " deg, too coarse for the tolerance (" << options.tolerance_mm << " mm, "
         << options.tolerance_deg << " deg): take more poses with the target in its view";
-      out.warnings.push_back(w.str());
+      out.warnings.push_back(CameraWarning(WarningKind::kDriftTooCoarse, cam.name, w.str()));
     }
     out.cameras.push_back(drift);
   }

@@ -242,12 +242,12 @@ Camera EstimateIntrinsics(const Dataset& dataset, int k) {
   return *estimated;
 }
 
-std::vector<std::string> IntrinsicsWarnings(
+std::vector<Warning> IntrinsicsWarnings(
     const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
     const TargetPoses& T_holder_target, double cauchy_scale_px, const std::vector<unsigned>& check,
     const std::optional<RobotPrior>& robot, std::map<size_t, Eigen::Matrix<double, 6, 1>>* shift) {
   const Dataset& dataset = *problem.dataset;
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   for (size_t k = 0; k < dataset.cameras.size(); ++k) {
     if (k >= check.size() || !check[k] || !T_cam_mount[k] || problem.camera_views[k].size() < 3) continue;
     const Camera& camera = dataset.cameras[k];
@@ -353,7 +353,7 @@ std::vector<std::string> IntrinsicsWarnings(
     w << " rerun with --refine-intrinsics " << groups[0]
       << (groups.size() > 1 ? "," + groups[1] : "") << " (the given values move the camera by ≈ "
       << std::setprecision(2) << MovedMm(T_cam_mount_k, moved) << " mm, which its sigma includes)";
-    warnings.push_back(w.str());
+    warnings.push_back(CameraWarning(WarningKind::kIntrinsicsOff, camera.name, w.str()));
   }
   return warnings;
 }
