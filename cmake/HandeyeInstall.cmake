@@ -11,7 +11,7 @@ set(HANDEYE_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/handeye"
 
 # Every public header of every module, whatever files are added later:
 # core/include/handeye/core/*.h → include/handeye/core/*.h, and so on.
-foreach(module core detectors io io/sim io/report)
+foreach(module core detectors io sim report)
   install(DIRECTORY "${PROJECT_SOURCE_DIR}/${module}/include/"
           DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}"
           COMPONENT handeye_development

@@ -144,7 +144,7 @@ void RunCalibrate(const CalibrateArgs& args) {
 
   LoadOptions load;
   load.reorthonormalise = args.reorthonormalise;
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   Dataset dataset = LoadDataset(args.input, load, &warnings);
   PrintWarnings(warnings);
   // Before minutes of detection and solving: every output can be written and is no input.
@@ -157,7 +157,7 @@ void RunCalibrate(const CalibrateArgs& args) {
   if (from_setup && *from_setup != dataset.setup)
     throw InputError(args.from, "/setup",
                      std::string("the dataset's setup, ") + SetupName(dataset.setup) + ", for --from");
-  std::vector<std::string> detect_warnings;
+  std::vector<Warning> detect_warnings;
   if (dataset.observations.empty()) {
     bool has_images = false;
     for (const auto& pose : dataset.poses) has_images = has_images || !pose.images.empty();
@@ -185,7 +185,7 @@ void RunCalibrate(const CalibrateArgs& args) {
     // A target declared differently from the one in the images is the likely
     // reason for too few views: say so where the failure is reported.
     std::string why = e.what();
-    for (const std::string& warning : detect_warnings) why += "; " + warning;
+    for (const Warning& warning : detect_warnings) why += "; " + warning.text;
     throw SolveError(why);
   }
   result.input = args.input;

@@ -17,6 +17,7 @@
 #include "handeye/io/detection.h"
 #include "handeye/io/json_util.h"
 #include "handeye/io/result_json.h"
+#include "handeye/io/warning_json.h"
 #include "output_paths.h"
 
 namespace handeye::tools {
@@ -52,7 +53,7 @@ void WriteCheck(const DriftResult& drift, const DriftOptions& options, const std
   root["tolerance_mm"] = options.tolerance_mm;
   root["tolerance_deg"] = options.tolerance_deg;
   root["cameras"] = cameras;
-  root["warnings"] = drift.warnings;
+  AddWarningsJson(drift.warnings, &root);
   WriteFileAtomically(path, DumpJson(root));
 }
 
@@ -112,7 +113,7 @@ void RunCheck(const CheckArgs& args) {
       {{"RESULT", args.result, {"handeye-result/1"}},
        {"DATASET|OBS", args.input, {"handeye-dataset/1", "handeye-observations/1"}}});
   const CalibrationResult calibration = LoadResult(args.result);
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   Dataset dataset = LoadDataset(args.input, {}, &warnings);
   PrintWarnings(warnings);
   std::vector<NamedPath> inputs = ImageInputs(dataset);

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "handeye/core/warning.h"
+
 namespace handeye::tools {
 
 /// Adds one subcommand to the app. Its callback throws InputError /
@@ -50,5 +52,6 @@ void EndIfInterrupted();
 
 /// Prints each warning on stderr as "warning: ...".
 void PrintWarnings(const std::vector<std::string>& warnings);
+void PrintWarnings(const std::vector<Warning>& warnings);
 
 }  // namespace handeye::tools

@@ -27,7 +27,7 @@ struct DetectArgs {
 void RunDetect(const DetectArgs& args) {
   LoadOptions load;
   load.reorthonormalise = args.reorthonormalise;
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   Dataset dataset = LoadDataset(args.dataset, load, &warnings);
   PrintWarnings(warnings);
   // Before minutes of detection: the output can be written and is no input.
@@ -47,7 +47,7 @@ void RunDetect(const DetectArgs& args) {
   options.threads = args.threads;
   options.progress = ProgressLine("detecting", args.quiet);
   PrintWarnings(RepeatedImageWarnings(dataset));
-  const std::vector<std::string> detect_warnings = DetectAll(&dataset, options);
+  const std::vector<Warning> detect_warnings = DetectAll(&dataset, options);
 
   std::map<std::string, int> found_per_camera;
   for (const auto& view : dataset.observations) ++found_per_camera[view.camera];

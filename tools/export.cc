@@ -82,7 +82,7 @@ void RunExport(const ExportArgs& args) {
   const CalibrationResult result = LoadResult(args.result);
   CheckFileOutputs({{"RESULT", args.result}}, {{"-o", args.output}});
   CheckCameraFramesKnown(frames, result, args.result);
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   try {
     ExportResult(result, *format, frames, args.result, args.output, &warnings);
   } catch (const InputError& e) {

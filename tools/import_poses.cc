@@ -125,7 +125,7 @@ void RunImportPoses(const ImportPosesArgs& args) {
   stand_in["T_base_ee"] = nlohmann::json::parse(JsonFromTransform(Eigen::Isometry3d::Identity()).dump());
   stand_in["images"] = nlohmann::json::object();
   probe["poses"] = nlohmann::json::array({stand_in});
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   const Dataset dataset = DatasetFromJson(probe, args.template_path, {}, &warnings);
   PrintWarnings(warnings);
 

@@ -89,6 +89,8 @@ void PrintWarnings(const std::vector<std::string>& warnings) {
   for (const auto& w : warnings) std::cerr << "warning: " << w << "\n";
 }
 
+void PrintWarnings(const std::vector<Warning>& warnings) { PrintWarnings(WarningTexts(warnings)); }
+
 }  // namespace handeye::tools
 
 namespace {

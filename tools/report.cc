@@ -37,7 +37,7 @@ void RunReport(const ReportArgs& args) {
                       {"RESULT", args.result, {"handeye-result/1"}}});
   LoadOptions load;
   load.reorthonormalise = args.reorthonormalise;
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   Dataset dataset = LoadDataset(args.dataset, load, &warnings);
   PrintWarnings(warnings);
   const CalibrationResult result = LoadResult(args.result);

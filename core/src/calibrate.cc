@@ -58,7 +58,7 @@ using CameraSolve = std::function<std::optional<std::pair<Eigen::Isometry3d, Eig
 // warnings) on every camera that has the views for it; the others are
 // reported, not fatal.
 Estimate PerCameraEstimate(const Problem& problem, const CameraSolve& solve, const std::string& method_name,
-                           std::vector<std::string>* warnings) {
+                           std::vector<Warning>* warnings) {
   const size_t n = problem.camera_views.size();
   Estimate est;
   est.T_cam_mount.resize(n);
@@ -70,8 +70,9 @@ Estimate PerCameraEstimate(const Problem& problem, const CameraSolve& solve, con
     std::string why;
     const auto solved = solve(static_cast<int>(k), &why);
     if (!solved) {
-      warnings->push_back("camera '" + problem.dataset->cameras[k].name + "' not calibrated by " +
-                          method_name + ": " + why);
+      warnings->push_back(CameraWarning(WarningKind::kCameraMethodFailed, problem.dataset->cameras[k].name,
+                                        "camera '" + problem.dataset->cameras[k].name + "' not calibrated by " +
+                                            method_name + ": " + why));
       continue;
     }
     est.T_cam_mount[k] = solved->first;
@@ -108,12 +109,14 @@ void FillResult(const Problem& problem, const Estimate& est, CalibrationResult* 
       cam.T_cam = est.T_cam_mount[k]->inverse();
       if (est.per_camera_target) cam.own_T_target = est.T_holder_target[k];
     } else if (cam.views == 0 && cam.views_rejected == 0) {
-      result->warnings.push_back("camera '" + cam.name + "' never saw the target: not calibrated");
+      result->warnings.push_back(CameraWarning(WarningKind::kCameraNotSeen, cam.name,
+                                               "camera '" + cam.name + "' never saw the target: not calibrated"));
     } else if (cam.views == 0) {
-      result->warnings.push_back(
+      result->warnings.push_back(CameraWarning(
+          WarningKind::kCameraNoUsableViews, cam.name,
           "camera '" + cam.name + "': the target was detected in " +
           std::to_string(cam.views_rejected) + " views, but none was usable" +
-          NoPlanePoseHint(problem, static_cast<int>(k)) + ": not calibrated");
+          NoPlanePoseHint(problem, static_cast<int>(k)) + ": not calibrated"));
     }
     result->cameras.push_back(cam);
   }
@@ -360,10 +363,11 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
       if (!undetermined[k].empty()) {
         std::string names;
         for (const auto& name : intrinsics.undetermined) names += (names.empty() ? "" : ", ") + name;
-        result.warnings.push_back("camera '" + dataset.cameras[k].name + "': the views hardly determine " + names +
+        result.warnings.push_back(CameraWarning(WarningKind::kIntrinsicsUndetermined, dataset.cameras[k].name,
+                                  "camera '" + dataset.cameras[k].name + "': the views hardly determine " + names +
                                   ", which a prior keeps near the " +
                                   (estimated[k] ? "estimate from the views alone" : "given values") +
-                                  " (1σ: an image corner within 20 px); see intrinsics_sigma");
+                                  " (1σ: an image corner within 20 px); see intrinsics_sigma"));
       }
       refined_intrinsics[k] = intrinsics;
     }
@@ -433,7 +437,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
             << " iterations) while the estimate was still moving by more than "
             << options.step_tolerance_mm << " mm / " << options.step_tolerance_deg
             << " deg per iteration; the result is written but may not be final";
-    result.warnings.push_back(warning.str());
+    result.warnings.push_back(GeneralWarning(WarningKind::kNotConverged, warning.str()));
   }
   internal::TargetPoses T_holder_target(dataset.cameras.size(), est.shared_T_holder_target);
   if (est.per_camera_target) T_holder_target = est.T_holder_target;
@@ -442,22 +446,28 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   // away from a camera): one warning names them all.
   std::ostringstream oblique;
   int num_oblique = 0;
-  for (const View& view : problem.views) {
+  for (size_t i = 0; i < problem.views.size(); ++i) {
+    const View& view = problem.views[i];
     if (view.used) continue;
     if (view.oblique_deg > 0) {
       oblique << (num_oblique++ ? ", " : "") << view.observation->pose_id << "/"
               << view.observation->camera << " (" << std::lround(view.oblique_deg) << ")";
       continue;
     }
-    result.warnings.push_back("view of pose '" + view.observation->pose_id + "' by camera '" +
-                              view.observation->camera + "' left out: " + view.rejected_because);
+    Warning left_out = CameraWarning(WarningKind::kViewLeftOut, view.observation->camera,
+                                     "view of pose '" + view.observation->pose_id + "' by camera '" +
+                                         view.observation->camera + "' left out: " + view.rejected_because);
+    left_out.pose = view.observation->pose_id;
+    left_out.view = static_cast<int>(i);  // FillResult lists the views in the problem's order
+    result.warnings.push_back(std::move(left_out));
   }
   if (num_oblique)
-    result.warnings.push_back(
+    result.warnings.push_back(GeneralWarning(
+        WarningKind::kObliqueViewsLeftOut,
         std::to_string(num_oblique) + " view" + (num_oblique > 1 ? "s" : "") +
         " left out, the target seen more than " +
         std::to_string(std::lround(internal::kMaxViewAngleDeg)) +
-        " deg from face-on (too squeezed for a good pose); pose/camera (deg): " + oblique.str());
+        " deg from face-on (too squeezed for a good pose); pose/camera (deg): " + oblique.str()));
   const auto pose_warnings = internal::PoseRecordWarnings(problem, est.T_cam_mount, T_holder_target);
   result.warnings.insert(result.warnings.end(), pose_warnings.begin(), pose_warnings.end());
   // Pairs for the methods without pair parameters: chained through the base.

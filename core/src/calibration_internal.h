@@ -139,9 +139,9 @@ void ExplainInconsistentViews(Problem* problem, const std::vector<std::optional<
 
 /// One warning per robot pose all of whose views were excluded as
 /// inconsistent: the pose record and the images likely do not belong together.
-std::vector<std::string> PoseRecordWarnings(const Problem& problem,
-                                            const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                                            const TargetPoses& T_holder_target);
+std::vector<Warning> PoseRecordWarnings(const Problem& problem,
+                                        const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                                        const TargetPoses& T_holder_target);
 
 /// Throws SolveError when the used views' robot motions cannot determine T_holder_target
 /// (fewer than two motions with non-parallel rotation axes, or tiny rotations).
@@ -352,7 +352,7 @@ void RecomputePnp(Problem* problem, double max_rms_px);
 /// groups it names move T_cam_mount from where the views' own intrinsics put
 /// it (tangent of T_cam_mount, linearised: C_xK C_KK⁻¹ ΔK from the same
 /// covariance); a bias the covariance of the joint solve does not hold.
-std::vector<std::string> IntrinsicsWarnings(
+std::vector<Warning> IntrinsicsWarnings(
     const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
     const TargetPoses& T_holder_target, double cauchy_scale_px, const std::vector<unsigned>& check,
     const std::optional<RobotPrior>& robot,
@@ -370,7 +370,7 @@ TargetPoses TargetPosesOf(const Refinement& refined, size_t num_cameras);
 /// set from the residuals (when not fixed), then it solves again, until
 /// nothing changes (at most a few rounds). Warnings go to *warnings.
 Refinement RobustSolve(Problem* problem, const CalibrationOptions& options, double first_scale,
-                       const std::function<Refinement(double scale_px)>& solve, std::vector<std::string>* warnings);
+                       const std::function<Refinement(double scale_px)>& solve, std::vector<Warning>* warnings);
 
 /// Leave-one-pose-out: for each robot pose with used views, the joint solve
 /// without them (from `init`, the solution), its prediction of their points,

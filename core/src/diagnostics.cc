@@ -80,29 +80,33 @@ ClosedFormComparison CompareWithClosedForm(const Problem& problem, int k, const 
   return cmp;
 }
 
-std::vector<std::string> QualityWarnings(const Problem& problem, const CalibrationOptions& options,
-                                         const CalibrationResult& result) {
+std::vector<Warning> QualityWarnings(const Problem& problem, const CalibrationOptions& options,
+                                     const CalibrationResult& result) {
   const QualityThresholds& warn = options.warn;
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   for (size_t k = 0; k < result.cameras.size(); ++k) {
     const CameraResult& cam = result.cameras[k];
     if (!cam.calibrated) continue;  // warned about where it was left out
     const std::string name = "camera '" + cam.name + "'";
     if (cam.views < warn.min_views_per_camera)
-      warnings.push_back(name + ": few views, only " + std::to_string(cam.views) + " used (fewer than " +
+      warnings.push_back(CameraWarning(WarningKind::kFewViews, cam.name,
+                         name + ": few views, only " + std::to_string(cam.views) + " used (fewer than " +
                          std::to_string(warn.min_views_per_camera) +
-                         "); one bad pose moves its result visibly; add robot poses in its view");
+                         "); one bad pose moves its result visibly; add robot poses in its view"));
     if (cam.rotation_spread_deg < warn.min_rotation_spread_deg)
-      warnings.push_back(name + ": poor rotation diversity, its views differ in robot rotation by at most " +
+      warnings.push_back(CameraWarning(WarningKind::kPoorRotationSpread, cam.name,
+                         name + ": poor rotation diversity, its views differ in robot rotation by at most " +
                          Fixed(cam.rotation_spread_deg, 1) + "° (< " + Fixed(warn.min_rotation_spread_deg, 0) +
-                         "°); tilt the target more between poses");
+                         "°); tilt the target more between poses"));
     else if (cam.axis_spread_deg < warn.min_axis_spread_deg)
-      warnings.push_back(name + ": poor rotation diversity, the robot motions between its views turn about " +
+      warnings.push_back(CameraWarning(WarningKind::kPoorRotationAxes, cam.name,
+                         name + ": poor rotation diversity, the robot motions between its views turn about " +
                          "nearly one axis (largest angle between axes " + Fixed(cam.axis_spread_deg, 1) +
-                         "° < " + Fixed(warn.min_axis_spread_deg, 0) + "°); rotate about a second axis too");
+                         "° < " + Fixed(warn.min_axis_spread_deg, 0) + "°); rotate about a second axis too"));
     if (warn.max_camera_rms_px > 0 && cam.rms_px > warn.max_camera_rms_px)
-      warnings.push_back(name + ": large residuals, RMS " + Fixed(cam.rms_px, 2) +
-                         " px through the calibrated chain (> " + Fixed(warn.max_camera_rms_px, 2) + " px)");
+      warnings.push_back(CameraWarning(WarningKind::kLargeResiduals, cam.name,
+                         name + ": large residuals, RMS " + Fixed(cam.rms_px, 2) +
+                         " px through the calibrated chain (> " + Fixed(warn.max_camera_rms_px, 2) + " px)"));
     if (cam.outliers > 0) {
       std::string list;
       int listed = 0;
@@ -116,17 +120,19 @@ std::vector<std::string> QualityWarnings(const Problem& problem, const Calibrati
         list += (list.empty() ? "" : ", ") + std::string("pose ") + view.pose_id + " (RMS " +
                 Fixed(view.rms_px, 2) + " px)";
       }
-      warnings.push_back(name + ": " + std::to_string(cam.outliers) + (cam.outliers == 1 ? " view" : " views") +
-                         " down-weighted as outliers by the solver: " + list);
+      warnings.push_back(CameraWarning(WarningKind::kOutlierViews, cam.name,
+                         name + ": " + std::to_string(cam.outliers) + (cam.outliers == 1 ? " view" : " views") +
+                         " down-weighted as outliers by the solver: " + list));
     }
     if (cam.closed_form && cam.closed_form->available && warn.max_closed_form_disagreement_px > 0 &&
         cam.closed_form->displacement_px > warn.max_closed_form_disagreement_px)
-      warnings.push_back(name + ": the result and " + AuthorName(cam.closed_form->method) +
+      warnings.push_back(CameraWarning(WarningKind::kClosedFormDisagrees, cam.name,
+                         name + ": the result and " + AuthorName(cam.closed_form->method) +
                          "'s per-camera closed form disagree by " + Fixed(cam.closed_form->displacement_px, 1) +
                          " px in the image (" + Fixed(cam.closed_form->translation_mm, 1) + " mm, " +
                          Fixed(cam.closed_form->rotation_deg, 2) + "°; threshold " +
                          Fixed(warn.max_closed_form_disagreement_px, 0) +
-                         " px); check this camera's robot poses and views");
+                         " px); check this camera's robot poses and views"));
   }
   return warnings;
 }
@@ -183,10 +189,10 @@ AxzbOfView Axzb(const Eigen::Isometry3d& T_cam_target_pnp, const Eigen::Isometry
   return out;
 }
 
-std::vector<std::string> DiagnoseSolution(const Problem& problem,
-                                          const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                                          const TargetPoses& T_holder_target, const CalibrationOptions& options,
-                                          CalibrationResult* result) {
+std::vector<Warning> DiagnoseSolution(const Problem& problem,
+                                      const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                                      const TargetPoses& T_holder_target, const CalibrationOptions& options,
+                                      CalibrationResult* result) {
   const size_t n = problem.dataset->cameras.size();
   struct Sums {
     double sq = 0, axzb_target = 0, axzb_camera = 0, axzb_rotation = 0;
@@ -262,8 +268,8 @@ std::vector<std::string> DiagnoseSolution(const Problem& problem,
 
 namespace handeye {
 
-std::vector<std::string> Diagnose(const Dataset& dataset, const CalibrationOptions& options,
-                                  CalibrationResult* result) {
+std::vector<Warning> Diagnose(const Dataset& dataset, const CalibrationOptions& options,
+                              CalibrationResult* result) {
   if (result->setup != dataset.setup)
     throw InputError("", "/setup",
                      std::string("the result's setup to match the dataset's (result ") + SetupName(result->setup) +

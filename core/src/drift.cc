@@ -2,7 +2,6 @@
 // handeye check: each camera's pose from new views, the target transform held.
 #include "handeye/core/drift.h"
 
-#include <ceres/covariance.h>
 #include <ceres/manifold.h>
 #include <ceres/problem.h>
 #include <ceres/product_manifold.h>
@@ -11,6 +10,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "covariance.h"
 #include "diagnostics_internal.h"
 #include "handeye/core/cost_functions.h"
 #include "handeye/core/error.h"
@@ -78,7 +78,9 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
                                         : "only " + std::to_string(drift.views) + " usable new view" +
                                               (drift.views == 1 ? "" : "s") + ", at least " +
                                               std::to_string(options.min_views) + " needed";
-      out.warnings.push_back("camera '" + cam.name + "': " + drift.reason + ": not checked");
+      out.warnings.push_back(
+          CameraWarning(WarningKind::kDriftNotChecked, cam.name,
+                        "camera '" + cam.name + "': " + drift.reason + ": not checked"));
       out.cameras.push_back(drift);
       continue;
     }
@@ -113,16 +115,13 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
     const internal::PoseDifference moved = internal::DifferenceOf(drift.T_cam, cam.T_cam);
     drift.moved_mm = moved.translation_mm;
     drift.moved_deg = moved.rotation_deg;
-    ceres::Covariance::Options covariance_options;
-    covariance_options.algorithm_type = ceres::DENSE_SVD;
-    ceres::Covariance covariance(covariance_options);
-    const std::vector<std::pair<const double*, const double*>> pair = {{T_cam_mount.data(), T_cam_mount.data()}};
-    if (covariance.Compute(pair, &ceres_problem)) {
-      Eigen::Matrix<double, 6, 6, Eigen::RowMajor> C;
-      covariance.GetCovarianceBlockInTangentSpace(T_cam_mount.data(), T_cam_mount.data(), C.data());
+    const internal::BlockCovariance covariance(&ceres_problem, {{T_cam_mount.data(), T_cam_mount.data()}},
+                                               ceres::DENSE_SVD);
+    if (covariance.ok()) {
+      const Eigen::Matrix<double, 6, 6> C = covariance.Tangent(T_cam_mount.data(), T_cam_mount.data());
       const double variance_factor = internal::VarianceFactor(&ceres_problem, blocks);
       const PoseUncertainty u =
-          internal::UncertaintyOf(T_cam_mount_now, Eigen::Matrix<double, 6, 6>(C) * variance_factor, true);
+          internal::UncertaintyOf(T_cam_mount_now, C * variance_factor, true);
       // The difference of two estimates: the new one and the calibration's own.
       const double calibrated_mm = cam.sigma ? cam.sigma->position_mm : 0.0;
       const double calibrated_deg = cam.sigma ? cam.sigma->rotation_deg : 0.0;
@@ -142,9 +141,10 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
         << " deg from its calibrated pose, within 3σ of the noise of the check (± "
         << drift.sigma_mm << " mm / ± " << drift.sigma_deg << " deg)";
       drift.reason = w.str();
-      out.warnings.push_back(
+      out.warnings.push_back(CameraWarning(
+          WarningKind::kDriftWithinNoise, cam.name,
           "camera '" + cam.name + "' " + drift.reason +
-          ": not called moved; take more poses with the target in its view to tell");
+              ": not called moved; take more poses with the target in its view to tell"));
     }
     else if (drift.sigma_mm > 0.5 * options.tolerance_mm || drift.sigma_deg > 0.5 * options.tolerance_deg) {
       std::ostringstream w;
@@ -152,7 +152,7 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
       w << "camera '" << cam.name << "': its " << drift.views << " new views know it to ± " << drift.sigma_mm
         << " mm / ± " << drift.sigma_deg << " deg, too coarse for the tolerance (" << options.tolerance_mm << " mm, "
         << options.tolerance_deg << " deg): take more poses with the target in its view";
-      out.warnings.push_back(w.str());
+      out.warnings.push_back(CameraWarning(WarningKind::kDriftTooCoarse, cam.name, w.str()));
     }
     out.cameras.push_back(drift);
   }

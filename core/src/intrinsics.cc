@@ -2,7 +2,6 @@
 // Intrinsics the hand-eye views determine: which to refine, which the views
 // cannot determine, an estimate for a camera given none, and the check of
 // given intrinsics after a solve.
-#include <ceres/covariance.h>
 #include <ceres/manifold.h>
 #include <ceres/problem.h>
 #include <ceres/product_manifold.h>
@@ -17,6 +16,7 @@
 
 #include "calibration_internal.h"
 #include "cost_jacobians.h"
+#include "covariance.h"
 #include "handeye/core/cost_functions.h"
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
@@ -242,12 +242,12 @@ Camera EstimateIntrinsics(const Dataset& dataset, int k) {
   return *estimated;
 }
 
-std::vector<std::string> IntrinsicsWarnings(
+std::vector<Warning> IntrinsicsWarnings(
     const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
     const TargetPoses& T_holder_target, double cauchy_scale_px, const std::vector<unsigned>& check,
     const std::optional<RobotPrior>& robot, std::map<size_t, Eigen::Matrix<double, 6, 1>>* shift) {
   const Dataset& dataset = *problem.dataset;
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   for (size_t k = 0; k < dataset.cameras.size(); ++k) {
     if (k >= check.size() || !check[k] || !T_cam_mount[k] || problem.camera_views[k].size() < 3) continue;
     const Camera& camera = dataset.cameras[k];
@@ -296,14 +296,10 @@ std::vector<std::string> IntrinsicsWarnings(
     ceres::Solver::Summary summary;
     ceres::Solve(solver, &ceres_problem, &summary);
     if (summary.termination_type == ceres::FAILURE) continue;
-    ceres::Covariance::Options covariance_options;
-    covariance_options.algorithm_type = robot ? ceres::SPARSE_QR : ceres::DENSE_SVD;
-    ceres::Covariance covariance(covariance_options);
-    const std::vector<std::pair<const double*, const double*>> blocks = {
-        {K.data(), K.data()}, {T_cam_mount_k.data(), K.data()}};
-    if (!covariance.Compute(blocks, &ceres_problem)) continue;
-    Eigen::Matrix<double, kN, kN, Eigen::RowMajor> C;
-    covariance.GetCovarianceBlock(K.data(), K.data(), C.data());
+    const BlockCovariance covariance(&ceres_problem, {{K.data(), K.data()}, {T_cam_mount_k.data(), K.data()}},
+                                     robot ? ceres::SPARSE_QR : ceres::DENSE_SVD);
+    if (!covariance.ok()) continue;
+    const Eigen::MatrixXd C = covariance.Ambient(K.data(), K.data());
     const double variance_factor = VarianceFactor(&ceres_problem, view_blocks);
     double sigma[4], delta[4];
     for (int p = 0; p < 4; ++p) {
@@ -319,10 +315,8 @@ std::vector<std::string> IntrinsicsWarnings(
     // (the subset manifold's tangent), the other group's ΔK 0.
     Eigen::Matrix<double, 6, 1> moved = Eigen::Matrix<double, 6, 1>::Zero();
     {
-      Eigen::Matrix<double, 4, 4, Eigen::RowMajor> C_KK;
-      Eigen::Matrix<double, 6, 4, Eigen::RowMajor> C_xK;
-      covariance.GetCovarianceBlockInTangentSpace(K.data(), K.data(), C_KK.data());
-      covariance.GetCovarianceBlockInTangentSpace(T_cam_mount_k.data(), K.data(), C_xK.data());
+      const Eigen::Matrix<double, 4, 4, Eigen::RowMajor> C_KK = covariance.Tangent(K.data(), K.data());
+      const Eigen::Matrix<double, 6, 4, Eigen::RowMajor> C_xK = covariance.Tangent(T_cam_mount_k.data(), K.data());
       Eigen::Vector4d given_minus_seen = Eigen::Vector4d::Zero();
       for (int p = 0; p < 4; ++p)
         if ((p < 2 && focal_off) || (p >= 2 && centre_off)) given_minus_seen[p] = -delta[p];
@@ -353,7 +347,7 @@ std::vector<std::string> IntrinsicsWarnings(
     w << " rerun with --refine-intrinsics " << groups[0]
       << (groups.size() > 1 ? "," + groups[1] : "") << " (the given values move the camera by ≈ "
       << std::setprecision(2) << MovedMm(T_cam_mount_k, moved) << " mm, which its sigma includes)";
-    warnings.push_back(w.str());
+    warnings.push_back(CameraWarning(WarningKind::kIntrinsicsOff, camera.name, w.str()));
   }
   return warnings;
 }

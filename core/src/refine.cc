@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The nonlinear refinement: the paper's joint problem (shared T_holder_target, c_rpj + c_cross
 // under a Cauchy loss) and the per-camera variant.
-#include <ceres/covariance.h>
 #include <ceres/manifold.h>
 #include <ceres/ordered_groups.h>
 #include <ceres/product_manifold.h>
@@ -15,6 +14,7 @@
 #include <memory>
 
 #include "calibration_internal.h"
+#include "covariance.h"
 #include "handeye/core/cost_functions.h"
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
@@ -203,21 +203,13 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
       for (const RobotPoseBlock& pose : robot_poses) pairs.emplace_back(block, pose.pose);
   }
   const double variance_factor = VarianceFactor(problem, views);
-  ceres::Covariance::Options covariance_options;
-  covariance_options.algorithm_type = ceres::SPARSE_QR;
-  covariance_options.num_threads = threads;
-  ceres::Covariance covariance(covariance_options);
-  const bool ok = covariance.Compute(pairs, problem);
+  const BlockCovariance covariance(problem, pairs, ceres::SPARSE_QR, threads);
+  const bool ok = covariance.ok();
 
   const std::vector<Eigen::Matrix<double, 6, 6>> M =
       sandwich ? SandwichWeights(*problem, robot_poses, *robot)
                : std::vector<Eigen::Matrix<double, 6, 6>>{};
-  auto tangent_block = [&](const double* a, const double* b) {
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> C(
-        problem->ParameterBlockTangentSize(a), problem->ParameterBlockTangentSize(b));
-    covariance.GetCovarianceBlockInTangentSpace(a, b, C.data());
-    return Eigen::MatrixXd(C);
-  };
+  auto tangent_block = [&](const double* a, const double* b) { return covariance.Tangent(a, b); };
   auto pose_covariance = [&](const double* block) {
     Eigen::MatrixXd C = tangent_block(block, block);
     if (sandwich) C -= SandwichCorrection(robot_poses, M, tangent_block, block);
@@ -235,7 +227,7 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
         Eigen::Matrix<double, kN, kN, Eigen::RowMajor>::Zero();
     const ceres::Manifold* manifold = problem->GetManifold(K[k]);
     if (ok) {
-      covariance.GetCovarianceBlock(K[k], K[k], C.data());
+      C = covariance.Ambient(K[k], K[k]);
       if (sandwich) {
         // The correction in the tangent space (the free intrinsics), back to all 18.
         Eigen::Matrix<double, kN, Eigen::Dynamic, Eigen::RowMajor> P =

@@ -34,7 +34,7 @@ TargetPoses TargetPosesOf(const Refinement& refined, size_t num_cameras) {
 
 Refinement RobustSolve(Problem* problem, const CalibrationOptions& options, double first_scale,
                        const std::function<Refinement(double scale_px)>& solve,
-                       std::vector<std::string>* warnings) {
+                       std::vector<Warning>* warnings) {
   constexpr int kMaxRounds = 5;
   const size_t n = problem->camera_views.size();
   const bool fixed_scale = options.cauchy_scale_px > 0;
@@ -56,9 +56,10 @@ Refinement RobustSolve(Problem* problem, const CalibrationOptions& options, doub
     if (3 * static_cast<int>(off.size()) > used_before) {
       // So many views cannot all be bad records: the model itself (intrinsics,
       // target size) or the robot poses as a whole are off. Keep them and say so.
-      warnings->push_back(std::to_string(off.size()) + " of " + std::to_string(used) +
-                          " views lie far outside the residuals of the others; they were kept: "
-                          "check the intrinsics, the target's size and the robot pose units");
+      warnings->push_back(GeneralWarning(WarningKind::kManyViewsOff,
+                                         std::to_string(off.size()) + " of " + std::to_string(used) +
+                                             " views lie far outside the residuals of the others; they were kept: "
+                                             "check the intrinsics, the target's size and the robot pose units"));
       off.clear();
     }
     for (int v : off) {

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "handeye/core/uncertainty.h"
 
-#include <ceres/covariance.h>
 #include <ceres/manifold.h>
 #include <ceres/problem.h>
 #include <ceres/product_manifold.h>
@@ -9,6 +8,7 @@
 #include <memory>
 
 #include "calibration_internal.h"
+#include "covariance.h"
 #include "handeye/core/cost_functions.h"
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
@@ -92,21 +92,18 @@ PositionCovariance ComputePositionCovariance(const Dataset& dataset, const Calib
     problem.AddResidualBlock(ViewReprojectionError::Create(dataset.cameras[k], T_mount_holder, std::move(points), 0.0),
                              nullptr, T_cam_mount[k].data(), T_holder_target.data());
   }
-  ceres::Covariance::Options options;
-  options.algorithm_type = ceres::DENSE_SVD;
-  ceres::Covariance covariance(options);
-  std::vector<std::pair<const double*, const double*>> blocks;
+  internal::BlockCovariance::Pairs blocks;
   for (size_t k = 0; k < T_cam_mount.size(); ++k)
     if (has_views[k]) blocks.emplace_back(T_cam_mount[k].data(), T_cam_mount[k].data());
-  if (!covariance.Compute(blocks, &problem))
+  const internal::BlockCovariance covariance(&problem, blocks, ceres::DENSE_SVD);
+  if (!covariance.ok())
     throw SolveError("the calibration is not observable from these views (singular information matrix)");
   PositionCovariance out;
   for (size_t k = 0; k < T_cam_mount.size(); ++k) {
     if (!has_views[k]) continue;
-    Eigen::Matrix<double, 6, 6, Eigen::RowMajor> C;
-    covariance.GetCovarianceBlockInTangentSpace(T_cam_mount[k].data(), T_cam_mount[k].data(), C.data());
-    const PoseUncertainty u = internal::UncertaintyOf(FromPoseParams(T_cam_mount[k].data()),
-                                                      Eigen::Matrix<double, 6, 6>(C) * noise_px * noise_px, true);
+    const Eigen::Matrix<double, 6, 6> C = covariance.Tangent(T_cam_mount[k].data(), T_cam_mount[k].data());
+    const PoseUncertainty u =
+        internal::UncertaintyOf(FromPoseParams(T_cam_mount[k].data()), C * noise_px * noise_px, true);
     constexpr double kMmToM = 1e-3, kDegToRad = M_PI / 180.0;
     out.camera_position[dataset.cameras[k].name] = u.covariance.topLeftCorner<3, 3>() * kMmToM * kMmToM;
     out.camera_rotation[dataset.cameras[k].name] = u.covariance.bottomRightCorner<3, 3>() * kDegToRad * kDegToRad;

@@ -338,12 +338,12 @@ std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
   return prior;
 }
 
-std::vector<std::string> PoseRecordWarnings(const Problem& problem,
-                                            const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                                            const TargetPoses& T_holder_target) {
+std::vector<Warning> PoseRecordWarnings(const Problem& problem,
+                                        const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+                                        const TargetPoses& T_holder_target) {
   const Dataset& dataset = *problem.dataset;
   const Eigen::Vector3d centre = TargetCentre(*dataset.target);
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   for (size_t j = 0; j < dataset.poses.size(); ++j) {
     std::vector<const View*> seen;  // views of the pose that had a target pose of their own
     bool all_inconsistent = true;
@@ -372,7 +372,7 @@ std::vector<std::string> PoseRecordWarnings(const Problem& problem,
             << " (" << cameras << ")";
     if (measured) warning << " by ≈ " << std::lround(sum_mm / measured) << " mm";
     warning << ": the image and the pose likely do not belong together; its views were left out";
-    warnings.push_back(warning.str());
+    warnings.push_back(PoseWarning(WarningKind::kPoseRecordMismatch, dataset.poses[j].id, warning.str()));
   }
   return warnings;
 }

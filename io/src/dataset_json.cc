@@ -350,13 +350,13 @@ std::string RelativeImagePath(const std::string& image, const std::string& file)
 }  // namespace
 
 Dataset LoadDataset(const std::string& path, const LoadOptions& options,
-                    std::vector<std::string>* warnings) {
+                    std::vector<Warning>* warnings) {
   const nlohmann::json doc = ReadJsonFile(path);
   return DatasetFromJson(doc, path, options, warnings);
 }
 
 Dataset DatasetFromJson(const nlohmann::json& doc, const std::string& path, const LoadOptions& options,
-                        std::vector<std::string>* warnings) {
+                        std::vector<Warning>* warnings) {
   const JsonReader root(&doc, path);
   root.ExpectObject(std::string("a ") + kDatasetFormat + " or " + kObservationsFormat + " object");
   const JsonReader format_json = root.Key("format");
@@ -376,7 +376,8 @@ Dataset DatasetFromJson(const nlohmann::json& doc, const std::string& path, cons
   dataset.setup = ReadSetup(root.Key("setup"));
   dataset.target = ReadTarget(root.Key("target"));
   if (warnings) {
-    for (const auto& w : dataset.target->Warnings()) warnings->push_back(path + ": " + w);
+    for (const auto& w : dataset.target->Warnings())
+      warnings->push_back(GeneralWarning(WarningKind::kTargetAmbiguous, path + ": " + w));
   }
   ReadCameras(root.Key("cameras"), &dataset);
   ReadPoses(root.Key("poses"), !observations, options, &dataset);

@@ -24,21 +24,21 @@ struct ImageTask {
 
 /// One warning per distinct declaration mismatch, with how many of the
 /// `not_found` images without a detection showed it.
-std::vector<std::string> MismatchWarnings(const std::vector<std::string>& mismatch,
-                                          std::size_t not_found) {
+std::vector<Warning> MismatchWarnings(const std::vector<std::string>& mismatch, std::size_t not_found) {
   std::map<std::string, std::size_t> images;
   for (const std::string& m : mismatch)
     if (!m.empty()) ++images[m];
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   for (const auto& [m, count] : images)
-    warnings.push_back("target: " + m + " (seen in " + std::to_string(count) + " of the " +
-                       std::to_string(not_found) + " images where the target was not found)");
+    warnings.push_back(GeneralWarning(WarningKind::kTargetMismatch,
+                       "target: " + m + " (seen in " + std::to_string(count) + " of the " +
+                       std::to_string(not_found) + " images where the target was not found)"));
   return warnings;
 }
 
 }  // namespace
 
-std::vector<std::string> DetectAll(Dataset* dataset, const DetectOptions& options) {
+std::vector<Warning> DetectAll(Dataset* dataset, const DetectOptions& options) {
   if (!dataset) throw std::invalid_argument("DetectAll: null dataset");
   if (!dataset->target) throw std::invalid_argument("DetectAll: dataset without a target");
   if (options.threads < 0)

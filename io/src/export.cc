@@ -291,7 +291,7 @@ Eigen::Isometry3d OpticalInLink() {
 }
 
 std::vector<StaticTransform> StaticTransformsOf(const CalibrationResult& result, const ExportOptions& options,
-                                                std::vector<std::string>* warnings) {
+                                                std::vector<Warning>* warnings) {
   std::string why;
   if (!options.Check(&why)) throw std::invalid_argument("ExportOptions: " + why);
   const SetupFrames frames = FramesOf(result.setup);
@@ -311,7 +311,9 @@ std::vector<StaticTransform> StaticTransformsOf(const CalibrationResult& result,
   std::vector<StaticTransform> out;
   for (const CameraResult& camera : result.cameras) {
     if (!camera.calibrated) {
-      if (warnings) warnings->push_back("camera '" + camera.name + "' was not calibrated; not exported");
+      if (warnings)
+        warnings->push_back(CameraWarning(WarningKind::kCameraNotExported, camera.name,
+                                          "camera '" + camera.name + "' was not calibrated; not exported"));
       continue;
     }
     const std::string link = camera.name + "_link";
@@ -345,7 +347,7 @@ std::vector<StaticTransform> StaticTransformsOf(const CalibrationResult& result,
 }
 
 std::string FormatExport(const CalibrationResult& result, ExportFormat format, const ExportOptions& options,
-                         const std::string& source, std::vector<std::string>* warnings) {
+                         const std::string& source, std::vector<Warning>* warnings) {
   const std::vector<StaticTransform> transforms = StaticTransformsOf(result, options, warnings);
   if (transforms.size() < 2) throw InputError("", "/cameras", "no calibrated camera; nothing to export");
   const Header header{source, SetupName(result.setup), MethodName(result.method), options.optical_only};
@@ -360,7 +362,7 @@ std::string FormatExport(const CalibrationResult& result, ExportFormat format, c
 }
 
 void ExportResult(const CalibrationResult& result, ExportFormat format, const ExportOptions& options,
-                  const std::string& source, const std::string& path, std::vector<std::string>* warnings) {
+                  const std::string& source, const std::string& path, std::vector<Warning>* warnings) {
   WriteFileAtomically(path, FormatExport(result, format, options, source, warnings));
 }
 

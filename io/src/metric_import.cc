@@ -335,7 +335,7 @@ void AddPoses(const std::string& stem, const std::vector<PoseRecord>& records, M
             << " (more than 0.1 mm or 0.01°); each camera keeps its own record as its own pose ("
             << groups.size() << " poses " << stem << "_<camera>), with no camera-to-camera terms "
             << "between them";
-    out->warnings.push_back(warning.str());
+    out->warnings.push_back(GeneralWarning(WarningKind::kPoseFilesDisagree, warning.str()));
   }
 }
 

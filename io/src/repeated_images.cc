@@ -65,8 +65,8 @@ std::string Named(const std::vector<std::string>& names) {
 
 }  // namespace
 
-std::vector<std::string> RepeatedImageWarnings(const Dataset& dataset) {
-  std::vector<std::string> warnings;
+std::vector<Warning> RepeatedImageWarnings(const Dataset& dataset) {
+  std::vector<Warning> warnings;
   for (const Camera& camera : dataset.cameras) {
     std::vector<std::string> poses, paths;
     for (const RobotPose& pose : dataset.poses) {
@@ -99,12 +99,13 @@ std::vector<std::string> RepeatedImageWarnings(const Dataset& dataset) {
         if (std::find(group_files.begin(), group_files.end(), paths[i]) == group_files.end())
           group_files.push_back(paths[i]);
       }
-      warnings.push_back("camera '" + camera.name + "': the images of poses " + Named(group_poses) +
+      warnings.push_back(CameraWarning(WarningKind::kRepeatedImages, camera.name,
+                         "camera '" + camera.name + "': the images of poses " + Named(group_poses) +
                          (group_files.size() == 1
                               ? " are one file, " + Named(group_files)
                               : " are byte for byte the same (" + Named(group_files) + ")") +
                          ": one picture under " + std::to_string(group.size()) +
-                         " robot poses; every pose needs its own image");
+                         " robot poses; every pose needs its own image"));
     }
   }
   return warnings;

@@ -9,6 +9,7 @@
 #include "handeye/core/transform.h"
 #include "handeye/io/atomic_file.h"
 #include "handeye/io/json_util.h"
+#include "handeye/io/warning_json.h"
 
 namespace handeye {
 namespace {
@@ -254,7 +255,7 @@ std::string ResultJson(const CalibrationResult& result) {
     views.push_back(entry);
   }
   root["views"] = views;
-  root["warnings"] = result.warnings;
+  AddWarningsJson(result.warnings, &root);
   root["notes"] = result.notes;
   root["options"] = OptionsJson(result.options);
   root["provenance"] = {{"handeye_version", result.handeye_version}, {"input", result.input}};
@@ -355,11 +356,11 @@ CalibrationResult LoadResult(const std::string& path) {
       result.views.push_back(vr);
     }
   }
-  for (auto [key, list] : {std::make_pair("warnings", &result.warnings), std::make_pair("notes", &result.notes)}) {
-    if (!root.Has(key)) continue;
-    const JsonReader strings = root.Key(key);
-    const size_t n = strings.ArraySize("an array of strings");
-    for (size_t i = 0; i < n; ++i) list->push_back(strings.At(i).String());
+  result.warnings = ReadWarningsJson(root);
+  if (root.Has("notes")) {
+    const JsonReader notes = root.Key("notes");
+    const size_t n = notes.ArraySize("an array of strings");
+    for (size_t i = 0; i < n; ++i) result.notes.push_back(notes.At(i).String());
   }
   result.options.method = result.method;
   if (root.Has("options")) ReadOptions(root.Key("options"), &result.options);

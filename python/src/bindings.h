@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "handeye/core/dataset.h"
+#include "handeye/core/warning.h"
 
 namespace handeye::python {
 
@@ -20,11 +21,11 @@ namespace py = pybind11;
 struct PyDataset {
   Dataset dataset;
   std::string path;
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
 };
 
-/// Issues each text as a Python UserWarning (stacklevel 2: the caller's line).
-void WarnAll(const std::vector<std::string>& texts);
+/// Issues each warning's text as a Python UserWarning (stacklevel 2: the caller's line).
+void WarnAll(const std::vector<Warning>& warnings);
 
 void AddErrors(py::module_& m);     ///< InputError, SolveError and their translation
 void AddDataset(py::module_& m);    ///< Dataset

@@ -165,7 +165,7 @@ py::array_t<double> CameraMatrix(const Camera& camera) {
   return MatrixArray(K);
 }
 
-std::shared_ptr<const Target> TargetFrom(py::handle target, std::vector<std::string>* warnings) {
+std::shared_ptr<const Target> TargetFrom(py::handle target, std::vector<Warning>* warnings) {
   std::shared_ptr<const Target> made;
   if (py::isinstance<py::str>(target)) {
     // A type name gives that type's default sheet, a .json path the target in
@@ -203,7 +203,7 @@ std::shared_ptr<const Target> TargetFrom(py::handle target, std::vector<std::str
             TypeName(target));
   }
   if (warnings)
-    for (const auto& w : made->Warnings()) warnings->push_back(w);
+    for (const auto& w : made->Warnings()) warnings->push_back(GeneralWarning(WarningKind::kTargetAmbiguous, w));
   return made;
 }
 

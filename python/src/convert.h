@@ -16,6 +16,7 @@
 
 #include "handeye/core/camera.h"
 #include "handeye/core/target.h"
+#include "handeye/core/warning.h"
 
 namespace handeye::python {
 
@@ -55,7 +56,7 @@ py::array_t<double> CameraMatrix(const Camera& camera);
 /// a JSON file holding one (as `--target-json`). Its warnings (an ambiguous
 /// board) are appended to `warnings` when given.
 std::shared_ptr<const Target> TargetFrom(py::handle target,
-                                         std::vector<std::string>* warnings = nullptr);
+                                         std::vector<Warning>* warnings = nullptr);
 /// The target's `target` object as a dict.
 py::dict TargetDict(const Target& target);
 

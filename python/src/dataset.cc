@@ -294,7 +294,7 @@ void AddDataset(py::module_& m) {
       .def_property_readonly("T_base_ee", &PoseArray, "The robot poses, N×4×4.")
       .def_property_readonly("views", &Views, "Every view as (camera, pose id, ids, pixels).")
       .def_property_readonly("path", [](const PyDataset& self) { return self.path; })
-      .def_property_readonly("warnings", [](const PyDataset& self) { return self.warnings; })
+      .def_property_readonly("warnings", [](const PyDataset& self) { return WarningTexts(self.warnings); })
       .def("__repr__", [](const PyDataset& self) {
         return "<handeye.Dataset " + std::string(SetupName(self.dataset.setup)) + ", " +
                std::to_string(self.dataset.cameras.size()) + " cameras, " +

@@ -8,9 +8,9 @@
 
 namespace handeye::python {
 
-void WarnAll(const std::vector<std::string>& texts) {
-  for (const std::string& text : texts)
-    if (PyErr_WarnEx(PyExc_UserWarning, text.c_str(), 2) != 0) throw py::error_already_set();
+void WarnAll(const std::vector<Warning>& warnings) {
+  for (const Warning& w : warnings)
+    if (PyErr_WarnEx(PyExc_UserWarning, w.text.c_str(), 2) != 0) throw py::error_already_set();
 }
 
 void AddErrors(py::module_& m) {

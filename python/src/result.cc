@@ -146,8 +146,12 @@ void AddResult(py::module_& m) {
           "views", [](const PyResult& r) { return FilePart(r, "views"); },
           "The result file's `views`: pose, camera, points, used, rms_px, … per view.")
       .def_property_readonly(
-          "warnings", [](const PyResult& r) { return r.result.warnings; },
+          "warnings", [](const PyResult& r) { return WarningTexts(r.result.warnings); },
           "What a user must see, as the CLI prints them.")
+      .def_property_readonly(
+          "warning_details", [](const PyResult& r) { return FilePart(r, "warning_details"); },
+          "The result file's `warning_details`: kind, camera, pose, view and text per warning, "
+          "in the order of `warnings`.")
       .def_property_readonly("notes", [](const PyResult& r) { return r.result.notes; })
       .def(
           "to_json", [](const PyResult& r) { return ResultJson(r.result); },

@@ -17,6 +17,7 @@
 #include "handeye/io/detection.h"
 #include "handeye/io/export.h"
 #include "handeye/io/result_json.h"
+#include "handeye/io/warning_json.h"
 #include "handeye/sim/simulation.h"
 #include "image.h"
 #include "progress.h"
@@ -92,7 +93,11 @@ py::dict DriftDict(const DriftResult& drift, const DriftOptions& options) {
   out["tolerance_mm"] = options.tolerance_mm;
   out["tolerance_deg"] = options.tolerance_deg;
   out["cameras"] = cameras;
-  out["warnings"] = drift.warnings;
+  nlohmann::ordered_json warnings;
+  AddWarningsJson(drift.warnings, &warnings);
+  const py::object json_loads = py::module_::import("json").attr("loads");
+  out["warnings"] = json_loads(warnings["warnings"].dump());
+  out["warning_details"] = json_loads(warnings["warning_details"].dump());
   out["moved"] = moved;
   out["not_assessed"] = not_assessed;
   return out;
@@ -132,7 +137,7 @@ std::string Export(py::handle result, const std::string& to, py::object path,
   const CalibrationResult calibration = ResultFrom(result);
   const std::string source =
       py::isinstance<py::str>(result) ? result.cast<std::string>() : "handeye.Result";
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   std::string text;
   try {
     text = FormatExport(calibration, *format, frames, source, &warnings);
@@ -195,7 +200,7 @@ SceneOptions SceneOf(const SimulateCall& call) {
 
 py::dict Simulate(const SimulateCall& call) {
   const SceneOptions scene_options = SceneOf(call);
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   std::shared_ptr<const Target> target;
   if (call.target
           .is_none())  // the CLI's default sheet (METRIC's board for the metric-medium preset)

@@ -165,9 +165,14 @@ TEST_CASE("A camera that never sees the target is reported, one seen once is cal
   REQUIRE(kept);
   const CalibrationResult result = Run(scene.dataset);
   CHECK_FALSE(result.cameras[3].calibrated);
-  bool warned = false;
-  for (const auto& w : result.warnings) warned = warned || w.find(blind) != std::string::npos;
-  CHECK(warned);
+  int warned = 0;
+  for (const Warning& w : result.warnings) {
+    if (w.text.find(blind) == std::string::npos) continue;
+    ++warned;
+    CHECK(w.kind == WarningKind::kCameraNotSeen);
+    CHECK(w.camera == blind);
+  }
+  CHECK(warned == 1);
   REQUIRE(result.cameras[2].calibrated);
   CHECK(result.cameras[2].views == 1);
   CHECK(CameraPositionError(result, scene.truth, 2) < 1e-6);

@@ -65,10 +65,10 @@ TEST_CASE("Calibrate stores each warning once, the options and the version", "[d
   CHECK(result.options.cross_terms);
   CHECK(result.options.method == Method::kJoint);
   CalibrationResult again = result;
-  const std::vector<std::string> quality = Diagnose(scene.dataset, result.options, &again);
+  const std::vector<Warning> quality = Diagnose(scene.dataset, result.options, &again);
   REQUIRE(quality.size() >= 2);  // 8 poses: cameras with few views
-  for (const std::string& warning : quality) {
-    INFO(warning);
+  for (const Warning& warning : quality) {
+    INFO(warning.text);
     CHECK(std::count(result.warnings.begin(), result.warnings.end(), warning) == 1);
   }
   for (size_t k = 0; k < result.cameras.size(); ++k) {
@@ -88,7 +88,7 @@ TEST_CASE("A closed form down-weights no view as an outlier", "[diagnostics]") {
   options.method = Method::kTsai;
   const CalibrationResult result = Calibrate(scene.dataset, options);
   for (const ViewResult& view : result.views) CHECK_FALSE(view.outlier);
-  for (const std::string& warning : result.warnings) CHECK(warning.find("outliers") == std::string::npos);
+  for (const Warning& warning : result.warnings) CHECK(warning.text.find("outliers") == std::string::npos);
   // Its comparison is with Park's closed form; Park's own with Tsai's.
   auto compared_with = [](const CalibrationResult& r) {
     std::string method;

@@ -55,7 +55,7 @@ Dataset WithFactoryIntrinsics(const Dataset& dataset, double k1_error = 0.0) {
 
 int WarningsContaining(const CalibrationResult& result, const std::string& text) {
   int n = 0;
-  for (const auto& w : result.warnings) n += w.find(text) != std::string::npos ? 1 : 0;
+  for (const Warning& w : result.warnings) n += w.text.find(text) != std::string::npos ? 1 : 0;
   return n;
 }
 

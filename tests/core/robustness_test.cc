@@ -3,6 +3,7 @@
 // records that belong to other poses, a see-through target read from behind,
 // the robot's own pose error, a solve that runs out of iterations.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <set>
@@ -51,8 +52,8 @@ Dataset Without(const Dataset& dataset, const std::set<std::string>& poses) {
 }
 
 bool AnyWarningContains(const CalibrationResult& result, const std::string& text) {
-  for (const std::string& w : result.warnings)
-    if (w.find(text) != std::string::npos) return true;
+  for (const Warning& w : result.warnings)
+    if (w.text.find(text) != std::string::npos) return true;
   return false;
 }
 
@@ -264,8 +265,10 @@ TEST_CASE("Views seen beyond 75 degrees from face-on are left out, named in one 
     }
   }
   int oblique_warnings = 0;
-  for (const std::string& warning : result.warnings) {
+  for (const Warning& w : result.warnings) {
+    const std::string& warning = w.text;
     if (warning.find("more than 75 deg from face-on") == std::string::npos) continue;
+    CHECK(w.kind == WarningKind::kObliqueViewsLeftOut);
     ++oblique_warnings;
     CHECK_THAT(warning, Contains("3 views left out"));
     for (const auto& [pose, camera] : oblique) CHECK_THAT(warning, Contains(pose + "/" + camera));
@@ -283,6 +286,8 @@ TEST_CASE("A solve that reaches the iteration limit is returned with a warning",
   REQUIRE_NOTHROW(result = Calibrate(scene.dataset, options));
   CHECK_FALSE(result.solver.converged);
   CHECK(AnyWarningContains(result, "iteration limit"));
+  CHECK(std::any_of(result.warnings.begin(), result.warnings.end(),
+                    [](const Warning& w) { return w.kind == WarningKind::kNotConverged && w.camera.empty(); }));
   for (const CameraResult& camera : result.cameras) CHECK(camera.calibrated);
 }
 

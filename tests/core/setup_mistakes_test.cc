@@ -172,14 +172,23 @@ TEST_CASE("Repeated images: every image the same fails, one repeated image is le
   b->ids = a->ids;
   b->points_px = a->points_px;
   const CalibrationResult result = Calibrate(one_copy, CalibrationOptions());
-  // One warning per left-out view, each naming the other pose.
+  // One warning per left-out view, each naming the other pose, and saying
+  // which view it is about in its fields too.
   int named = 0;
-  for (const std::string& w : result.warnings)
-    if (w.find("detected points are identical") != std::string::npos) {
-      ++named;
-      const bool of_a = w.find("pose '" + a->pose_id + "'") != std::string::npos;
-      CHECK_THAT(w, Contains("pose(s) '" + (of_a ? b->pose_id : a->pose_id) + "'"));
-    }
+  for (const Warning& w : result.warnings) {
+    if (w.text.find("detected points are identical") == std::string::npos) continue;
+    ++named;
+    const bool of_a = w.text.find("pose '" + a->pose_id + "'") != std::string::npos;
+    CHECK_THAT(w.text, Contains("pose(s) '" + (of_a ? b->pose_id : a->pose_id) + "'"));
+    CHECK(w.kind == WarningKind::kViewLeftOut);
+    CHECK(w.camera == a->camera);
+    CHECK(w.pose == (of_a ? a->pose_id : b->pose_id));
+    REQUIRE(w.view);
+    REQUIRE(*w.view < static_cast<int>(result.views.size()));
+    CHECK(result.views[*w.view].pose_id == w.pose);
+    CHECK(result.views[*w.view].camera == w.camera);
+    CHECK_FALSE(result.views[*w.view].used);
+  }
   CHECK(named == 2);
   for (const ViewResult& view : result.views)
     if (view.camera == a->camera && (view.pose_id == a->pose_id || view.pose_id == b->pose_id))

@@ -23,7 +23,7 @@ using namespace handeye::test;
 
 TEST_CASE("A valid dataset loads, with image paths resolved against its folder", "[io][dataset]") {
   const std::string dir = test::TempDir("dataset_valid");
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   const Dataset d = LoadDataset(WriteJson(dir + "/data.json", ValidDatasetJson()), {}, &warnings);
   CHECK(warnings.empty());  // 4 + 3 is odd: not ambiguous
   CHECK(d.setup == Setup::kEyeToHand);
@@ -46,12 +46,13 @@ TEST_CASE("A valid dataset loads, with image paths resolved against its folder",
 TEST_CASE("An ambiguous checkerboard is loaded with a warning", "[io][dataset]") {
   json j = ValidDatasetJson();
   j["target"]["inner_corners"] = {4, 4};
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   const std::string file = WriteJson(test::TempDir("dataset_warn") + "/data.json", j);
   LoadDataset(file, {}, &warnings);
   REQUIRE(warnings.size() == 1);
-  CHECK_THAT(warnings[0], Contains(file));
-  CHECK_THAT(warnings[0], Contains("ambiguous"));
+  CHECK_THAT(warnings[0].text, Contains(file));
+  CHECK_THAT(warnings[0].text, Contains("ambiguous"));
+  CHECK(warnings[0].kind == WarningKind::kTargetAmbiguous);
 }
 
 Dataset MakeDataset(const std::string& image_dir) {

@@ -15,7 +15,7 @@ const std::filesystem::path kExample =
 
 TEST_CASE("docs/example/dataset.json loads as the documentation describes it",
           "[io][dataset][docs]") {
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   const Dataset d = LoadDataset((kExample / "dataset.json").string(), {}, &warnings);
   CHECK(d.setup == Setup::kEyeToHand);
   REQUIRE(d.cameras.size() == 2);

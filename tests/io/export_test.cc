@@ -228,10 +228,12 @@ TEST_CASE("Every export format parses back to the result's transforms to 1e-9", 
     for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
       INFO(layout << ", " << SetupName(setup));
       const CalibrationResult result = SampleResult(setup);
-      std::vector<std::string> warnings;
+      std::vector<Warning> warnings;
       const std::string launch = FormatExport(result, ExportFormat::kRos2Launch, frames, "result.json", &warnings);
       REQUIRE(warnings.size() == 1);
-      CHECK_THAT(warnings[0], Contains("camera 'cam3' was not calibrated; not exported"));
+      CHECK_THAT(warnings[0].text, Contains("camera 'cam3' was not calibrated; not exported"));
+      CHECK(warnings[0].kind == WarningKind::kCameraNotExported);
+      CHECK(warnings[0].camera == "cam3");
       CHECK_THAT(launch, Contains("from launch_ros.actions import Node"));
       CheckTransforms(ParseLaunch(launch), result, frames);
 

@@ -135,9 +135,10 @@ TEST_CASE("METRIC folder: copies of a pose that disagree stay separate poses", "
   CHECK(d.poses[3].images.count("camera2") == 1);
   CHECK((d.poses[2].T_base_ee.matrix() - test::MetricPose(3).matrix()).cwiseAbs().maxCoeff() < 1e-15);
   REQUIRE(imported.warnings.size() == 1);
-  CHECK_THAT(imported.warnings[0], Contains("pose files named 0003 disagree"));
-  CHECK_THAT(imported.warnings[0], Contains("camera2/pose/0003.csv"));
-  CHECK_THAT(imported.warnings[0], Contains("each camera keeps its own record"));
+  CHECK(imported.warnings[0].kind == WarningKind::kPoseFilesDisagree);
+  CHECK_THAT(imported.warnings[0].text, Contains("pose files named 0003 disagree"));
+  CHECK_THAT(imported.warnings[0].text, Contains("camera2/pose/0003.csv"));
+  CHECK_THAT(imported.warnings[0].text, Contains("each camera keeps its own record"));
 }
 
 TEST_CASE("METRIC YAML as cv::FileStorage writes it, with comments and quotes", "[io][metric]") {

@@ -41,8 +41,10 @@ TEST_CASE("Images listed for several poses are named: one path, or the same byte
                                 {{"cam0", dir + "/copy_of_a.png"}, {"cam1", dir + "/other.png"}},
                                 {{"cam0", dir + "/almost_a.png"}, {"cam1", dir + "/./a.png"}},
                                 {{"cam0", dir + "/missing.png"}}});
-  const std::vector<std::string> warnings = RepeatedImageWarnings(d);
+  const std::vector<std::string> warnings = WarningTexts(RepeatedImageWarnings(d));
   REQUIRE(warnings.size() == 2);
+  CHECK(RepeatedImageWarnings(d)[1].camera == "cam1");
+  CHECK(RepeatedImageWarnings(d)[1].kind == WarningKind::kRepeatedImages);
   // cam0: p0 and p1 are byte for byte the same; almost_a is not, missing is skipped.
   CHECK_THAT(warnings[0],
              Contains("camera 'cam0': the images of poses 'p0', 'p1' are byte for byte the same"));

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
@@ -8,6 +9,7 @@
 #include "support/test_support.h"
 
 using namespace handeye;
+using Catch::Matchers::Contains;
 
 namespace {
 
@@ -61,7 +63,12 @@ CalibrationResult SampleResult(Setup setup) {
   rejected.used = false;
   rejected.rejected_because = "fewer than 4 points";
   r.views = {v, rejected};
-  r.warnings = {"camera 'cam1' never saw the target: not calibrated"};
+  Warning left_out = CameraWarning(WarningKind::kViewLeftOut, "cam0",
+                                   "view of pose '0001' by camera 'cam0' left out: fewer than 4 points");
+  left_out.pose = "0001";
+  left_out.view = 1;
+  r.warnings = {CameraWarning(WarningKind::kCameraNotSeen, "cam1", "camera 'cam1' never saw the target: not calibrated"),
+                left_out};
   r.notes = {"initialised from ViSP on camera 'cam0'"};
   return r;
 }
@@ -138,7 +145,47 @@ TEST_CASE("Broken result files are rejected with file and path", "[result]") {
   expect_error(replace("\"joint\"", "\"magic\""), "/method");
   expect_error(replace("\"calibrated\": true", "\"calibrated\": 1"), "/cameras/cam0/calibrated");
   expect_error(replace("\"T_ee_target\": [", "\"T_ee_target_x\": ["), "/T_ee_target");
+  expect_error(replace("\"kind\": \"camera_not_seen\"", "\"kind\": 3"), "/warning_details/0/kind");
+  expect_error(replace("\"text\": \"camera 'cam1' never", "\"text\": \"camera 'cam2' never"),
+               "/warning_details/0/text");
   CHECK_THROWS_AS(LoadResult(dir + "/missing.json"), InputError);
+}
+
+TEST_CASE("Result files carry each warning's text and its details, in one order", "[result]") {
+  const std::string dir = test::TempDir("result_warnings");
+  const std::string path = dir + "/result.json";
+  SaveResult(SampleResult(Setup::kEyeToHand), path);
+  const nlohmann::json json = nlohmann::json::parse(test::ReadText(path));
+  CHECK(json["warnings"] == nlohmann::json({"camera 'cam1' never saw the target: not calibrated",
+                                            "view of pose '0001' by camera 'cam0' left out: fewer than 4 points"}));
+  REQUIRE(json["warning_details"].size() == 2);
+  const nlohmann::json& seen = json["warning_details"][0];
+  CHECK(seen["kind"] == "camera_not_seen");
+  CHECK(seen["camera"] == "cam1");
+  CHECK(seen["pose"].is_null());
+  CHECK(seen["view"].is_null());
+  const nlohmann::json& view = json["warning_details"][1];
+  CHECK(view["kind"] == "view_left_out");
+  CHECK(view["pose"] == "0001");
+  CHECK(view["view"] == 1);
+  CHECK(view["text"] == json["warnings"][1]);
+
+  // A file written before the details: its texts, of kind "other".
+  nlohmann::json old = json;
+  old.erase("warning_details");
+  test::WriteText(path, old.dump());
+  const CalibrationResult back = LoadResult(path);
+  REQUIRE(back.warnings.size() == 2);
+  CHECK(back.warnings[1].kind == WarningKind::kOther);
+  CHECK(back.warnings[1].text == json["warnings"][1]);
+  CHECK(back.warnings[1].camera.empty());
+  CHECK_FALSE(back.warnings[1].view);
+
+  // Details that do not match the texts one for one are refused.
+  nlohmann::json short_details = json;
+  short_details["warning_details"].erase(1);
+  test::WriteText(path, short_details.dump());
+  CHECK_THROWS_WITH(LoadResult(path), Contains("/warning_details") && Contains("one object per entry"));
 }
 
 TEST_CASE("Result files keep the diagnostics, the options and where they came from", "[result]") {

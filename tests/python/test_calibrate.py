@@ -56,6 +56,9 @@ def test_the_result_gives_numpy_transforms_sigma_and_the_json_it_saves(cell, tmp
         assert np.array_equal(result.T_cam[camera.name], camera.T_cam)
     assert result.T_target.shape == (4, 4)
     assert all(isinstance(w, str) for w in result.warnings)
+    assert [d["text"] for d in result.warning_details] == result.warnings
+    assert all(isinstance(d["kind"], str) and set(d) == {"kind", "camera", "pose", "view", "text"}
+               for d in result.warning_details)
     assert result.metrics["rms_px"] < 0.5 and result.solver["converged"]
     path = tmp_path / "result.json"
     result.save(str(path))

@@ -86,3 +86,5 @@ def test_check_finds_the_bumped_camera_as_handeye_check_does(cell, cli_result, t
         for key in ("verdict", "reason", "views", "moved_mm", "moved_deg", "sigma_mm", "sigma_deg"):
             assert ours.get(key) == camera.get(key), (name, key)
         assert ("T_cam" in ours) == ("moved_mm" in camera)
+    assert verdict["warnings"] == cli["warnings"]
+    assert verdict["warning_details"] == cli["warning_details"]

@@ -289,10 +289,10 @@ TEST_CASE("report shows the warnings of a camera whose result disagrees with its
   options.threads = 1;
   {
     const ReportSummary good = WriteReport(cell.scene.dataset, cell.result, dir + "/good", options);
-    for (const auto& w : good.warnings) {
-      INFO(w);
-      CHECK(w.find("disagree") == std::string::npos);
-      CHECK(w.find("large residuals") == std::string::npos);
+    for (const Warning& w : good.warnings) {
+      INFO(w.text);
+      CHECK(w.text.find("disagree") == std::string::npos);
+      CHECK(w.text.find("large residuals") == std::string::npos);
     }
   }
   // Move cam2 by 8 cm: its reprojection error and its distance to the closed
@@ -303,12 +303,41 @@ TEST_CASE("report shows the warnings of a camera whose result disagrees with its
   const ReportSummary bad = WriteReport(cell.scene.dataset, cell.result, dir + "/bad", options);
   CHECK(bad.warnings == cell.result.warnings);
   std::string all;
-  for (const auto& w : bad.warnings) all += w + "\n";
+  for (const Warning& w : bad.warnings) all += w.text + "\n";
   INFO(all);
   CHECK_THAT(all, Contains("camera 'cam2': large residuals"));
   CHECK_THAT(all, Contains("camera 'cam2': the result and Park's per-camera closed form disagree"));
   CHECK(all.find("camera 'cam1': the result") == std::string::npos);
   CHECK_THAT(test::ReadText(dir + "/bad/index.html"), Contains("disagree"));
+}
+
+TEST_CASE("report flags a camera's row by the warnings' camera, not by their wording", "[report]") {
+  const std::string dir = test::TempDir("report_flagged_rows");
+  Cell cell = MakeCell(Setup::kEyeToHand, 12, "");
+  ReportOptions options;
+  options.threads = 1;
+  const auto flagged_rows = [&](const std::string& folder) {
+    const std::string html = test::ReadText(folder + "/index.html");
+    int rows = 0;
+    for (size_t at = html.find("<tr class=\"flag\">"); at != std::string::npos;
+         at = html.find("<tr class=\"flag\">", at + 1))
+      ++rows;
+    return rows;
+  };
+  cell.result.warnings.clear();
+  WriteReport(cell.scene.dataset, cell.result, dir + "/none", options);
+  const int unflagged = flagged_rows(dir + "/none");
+  // A warning about one view of cam1 leaves its row alone; one about cam1 as
+  // a whole flags it, whatever its sentence starts with.
+  Warning view = CameraWarning(WarningKind::kViewLeftOut, "cam1", "camera 'cam1' view left out (test)");
+  view.pose = cell.result.views[0].pose_id;
+  view.view = 0;
+  cell.result.warnings = {view};
+  WriteReport(cell.scene.dataset, cell.result, dir + "/view", options);
+  CHECK(flagged_rows(dir + "/view") == unflagged);
+  cell.result.warnings = {CameraWarning(WarningKind::kLargeResiduals, "cam1", "large residuals (test)")};
+  WriteReport(cell.scene.dataset, cell.result, dir + "/camera", options);
+  CHECK(flagged_rows(dir + "/camera") == unflagged + 1);
 }
 
 TEST_CASE("report's warnings are result.json's, on a cell that triggers several", "[report]") {
@@ -330,7 +359,7 @@ TEST_CASE("report's warnings are result.json's, on a cell that triggers several"
   ReportOptions options;
   options.threads = 1;
   const ReportSummary summary = WriteReport(cell.scene.dataset, LoadResult(dir + "/result.json"), dir, options);
-  CHECK(summary.warnings == written);
+  CHECK(WarningTexts(summary.warnings) == written);
   // The figures are the result's, not recomputed: a changed one is shown as it is.
   CalibrationResult marked = result;
   REQUIRE(marked.cameras[0].closed_form);
@@ -359,8 +388,8 @@ TEST_CASE("report rotation-diversity warning follows the camera's robot motions"
   auto has_warning = [&](double threshold) {
     options.warn.min_rotation_spread_deg = threshold;
     CalibrationResult result = cell.result;
-    for (const auto& w : Diagnose(dataset, options, &result))
-      if (w.rfind("camera 'cam0': poor rotation diversity", 0) == 0) return true;
+    for (const Warning& w : Diagnose(dataset, options, &result))
+      if (w.kind == WarningKind::kPoorRotationSpread && w.camera == "cam0") return true;
     return false;
   };
   CHECK(has_warning(spread_deg + 0.01));

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "handeye/core/dataset.h"
+#include "handeye/core/warning.h"
 
 namespace handeye {
 
@@ -315,8 +316,9 @@ struct CalibrationResult {
   CalibrationMetrics metrics;
   SolverSummary solver;
   std::vector<ViewResult> views;  ///< every observation, used or rejected
-  /// Things a user must see (rejected views, uncalibrated cameras, …).
-  std::vector<std::string> warnings;
+  /// Things a user must see (rejected views, uncalibrated cameras, …), each
+  /// with its kind and the camera, pose and view it is about.
+  std::vector<Warning> warnings;
   /// How the solve went (initialisation chosen, …): information, not a problem.
   std::vector<std::string> notes;
   /// The options the result was computed with (thresholds and loss scale as

@@ -23,7 +23,7 @@ namespace handeye {
 /// options.warn calls for (Calibrate() appends them to the result's warnings;
 /// this function leaves `warnings` alone). Throws InputError when the result
 /// does not belong to the dataset (setup or camera names differ).
-std::vector<std::string> Diagnose(const Dataset& dataset, const CalibrationOptions& options,
-                                  CalibrationResult* result);
+std::vector<Warning> Diagnose(const Dataset& dataset, const CalibrationOptions& options,
+                              CalibrationResult* result);
 
 }  // namespace handeye

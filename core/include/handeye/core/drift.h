@@ -48,7 +48,7 @@ struct CameraDrift {
 
 struct DriftResult {
   std::vector<CameraDrift> cameras;  ///< result order
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   bool AnyMoved() const;
   /// True when some camera is "not_assessed".
   bool AnyNotAssessed() const;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "handeye/core/dataset.h"
+#include "handeye/core/warning.h"
 
 namespace handeye {
 
@@ -32,13 +33,13 @@ struct LoadOptions {
 /// paths come back resolved against the file's folder. Target warnings (e.g.
 /// an ambiguous checkerboard) are appended to `warnings` when given.
 Dataset LoadDataset(const std::string& path, const LoadOptions& options = {},
-                    std::vector<std::string>* warnings = nullptr);
+                    std::vector<Warning>* warnings = nullptr);
 
 /// The same for a document already parsed, e.g. assembled in memory. `path`
 /// names it in error messages and anchors relative paths (images, intrinsics
 /// files); it need not exist.
 Dataset DatasetFromJson(const nlohmann::json& document, const std::string& path,
-                        const LoadOptions& options = {}, std::vector<std::string>* warnings = nullptr);
+                        const LoadOptions& options = {}, std::vector<Warning>* warnings = nullptr);
 
 /// Writes `handeye-dataset/1`; image paths are written relative to the file's folder.
 void SaveDataset(const Dataset& dataset, const std::string& path);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "handeye/core/dataset.h"
+#include "handeye/core/warning.h"
 
 namespace handeye {
 
@@ -27,6 +28,6 @@ struct DetectOptions {
 /// Returns warnings for the user: images where the detector saw the target
 /// declared differently (Detector::DetectOrExplain), one warning per
 /// difference, with how many images showed it.
-std::vector<std::string> DetectAll(Dataset* dataset, const DetectOptions& options = {});
+std::vector<Warning> DetectAll(Dataset* dataset, const DetectOptions& options = {});
 
 }  // namespace handeye

@@ -109,17 +109,17 @@ Eigen::Isometry3d OpticalInLink();
 /// (path `/cameras`) when camera_frames names a camera the result does not
 /// have, and std::invalid_argument when `options` fails Check().
 std::vector<StaticTransform> StaticTransformsOf(const CalibrationResult& result, const ExportOptions& options,
-                                                std::vector<std::string>* warnings = nullptr);
+                                                std::vector<Warning>* warnings = nullptr);
 
 
 /// The file content of `result` in `format`. `source` (e.g. the result's
 /// path) is named in the file's header comment.
 std::string FormatExport(const CalibrationResult& result, ExportFormat format, const ExportOptions& options,
-                         const std::string& source, std::vector<std::string>* warnings = nullptr);
+                         const std::string& source, std::vector<Warning>* warnings = nullptr);
 
 /// Writes FormatExport() to `path` atomically. Throws InputError naming the
 /// path when it cannot be written.
 void ExportResult(const CalibrationResult& result, ExportFormat format, const ExportOptions& options,
-                  const std::string& source, const std::string& path, std::vector<std::string>* warnings = nullptr);
+                  const std::string& source, const std::string& path, std::vector<Warning>* warnings = nullptr);
 
 }  // namespace handeye

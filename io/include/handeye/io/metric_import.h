@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "handeye/core/dataset.h"
+#include "handeye/core/warning.h"
 
 namespace handeye {
 
@@ -16,7 +17,7 @@ struct MetricImport {
   Dataset dataset;                   ///< image paths absolute
   std::optional<GroundTruth> truth;  ///< from FOLDER/GT/ when present
   /// Things a user must see (pose files of one name that disagree, …).
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   /// How the folder was read (same-name pose files merged, …): information.
   std::vector<std::string> notes;
 };

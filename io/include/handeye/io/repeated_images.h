@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "handeye/core/dataset.h"
+#include "handeye/core/warning.h"
 
 namespace handeye {
 
@@ -18,6 +19,6 @@ namespace handeye {
 /// and only those alike so far are read whole. Files that cannot be read are
 /// skipped (detection reports them). Calibrate() leaves such views out (their
 /// detected points are identical) and fails when they are a third of the views.
-std::vector<std::string> RepeatedImageWarnings(const Dataset& dataset);
+std::vector<Warning> RepeatedImageWarnings(const Dataset& dataset);
 
 }  // namespace handeye

@@ -73,7 +73,7 @@ struct ReportModel {
   /// of the histograms and the magnification of the image-plane plots.
   double residual_p99_px = 0.0;
   /// The result's warnings, after any about the result not matching the observations.
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   std::vector<std::string> notes;
 };
 

@@ -169,10 +169,11 @@ ReportModel BuildModel(const Dataset& dataset, const CalibrationResult& result,
     model.views.push_back(std::move(view));
   }
   if (missing_from_result > 0)
-    model.warnings.push_back(
+    model.warnings.push_back(GeneralWarning(
+        WarningKind::kResultViewsMissing,
         std::to_string(missing_from_result) +
         " views of the observations are not in the result: it was computed from other "
-        "observations (they are drawn, but not as the solver saw them)");
+        "observations (they are drawn, but not as the solver saw them)"));
 
   // Cross-camera predictions, for the views the solver tied together (used
   // views of two cameras at one pose).

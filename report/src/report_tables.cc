@@ -113,9 +113,11 @@ void CameraTables(const ReportModel& model, std::ostringstream& out) {
   const SetupFrames frames = FramesOf(model.dataset->setup);
   const std::string& T = frames.camera_key;
   const std::string& frame = frames.mount;
+  // A row is flagged by the warnings about its camera as a whole, not by
+  // those about one view or pose of it.
   auto flagged = [&](const CameraModel& cam) {
-    for (const auto& w : model.warnings)
-      if (w.rfind("camera '" + cam.camera->name + "'", 0) == 0) return true;
+    for (const Warning& w : model.warnings)
+      if (w.camera == cam.camera->name && w.pose.empty() && !w.view) return true;
     return false;
   };
   out << "<h3>Camera poses " << T

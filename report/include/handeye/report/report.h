@@ -51,7 +51,7 @@ struct ReportSummary {
   int overlays = 0;                   ///< overlay PNGs written
   /// The result's warnings (also in the HTML), after any about the result
   /// not matching the dataset's observations.
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   double seconds = 0;                 ///< wall time
 };
 

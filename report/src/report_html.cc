@@ -170,7 +170,7 @@ std::string RenderHtml(const ReportModel& model, const Plots& plots,
 
   if (!model.warnings.empty()) {
     out << "<h2 id=\"warnings\">Warnings</h2>\n<ul class=\"warnings\">\n";
-    for (const auto& w : model.warnings) out << "<li>" << Escape(w) << "</li>\n";
+    for (const Warning& w : model.warnings) out << "<li>" << Escape(w.text) << "</li>\n";
     out << "</ul>\n";
   }
 
