@@ -40,7 +40,7 @@ bool IsResult(const std::string& path) {
 }
 
 Dataset LoadCapture(const std::string& path, bool quiet) {
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   Dataset dataset = LoadDataset(path, {}, &warnings);
   PrintWarnings(warnings);
   if (dataset.observations.empty()) {
