@@ -30,7 +30,7 @@ using namespace handeye::bench;
 int main(int argc, char** argv) {
   CLI::App app{"handeye: coverage of the result's 1σ against the truth"};
   std::string cells = "small,medium,large", robot = "0/0,0.1/0.01,0.3/0.03", noise = "0.1,0.3";
-  std::string source = "projected", image_size, intrinsics_off = "0/0";
+  std::string source = "projected", image_size, intrinsics_off = "0/0", intrinsics_sigma;
   int seeds = 6, poses = 20, threads = 0, first_seed = 1001, cameras_per_cell = 4;
   bool given_robot_sigma = false;
   app.add_option("--cells", cells, "cells");
@@ -51,6 +51,8 @@ int main(int argc, char** argv) {
       "--intrinsics-off", intrinsics_off,
       "images: the given intrinsics off by PCT % in focal length and PX in the principal point "
       "(even cameras +, odd −), PCT/PX comma-separated; the detections use the true ones");
+  app.add_option("--intrinsics-sigma", intrinsics_sigma,
+                 "the solver's --intrinsics-sigma (default: the library's; 0: the given intrinsics exact)");
   app.add_flag("--given-robot-sigma", given_robot_sigma,
                "give the solver the simulated robot σ instead of letting it estimate it");
   CLI11_PARSE(app, argc, argv);
@@ -83,6 +85,15 @@ int main(int argc, char** argv) {
             return 2;
           }
           CalibrationOptions calibration;
+          if (!intrinsics_sigma.empty()) {
+            std::string why;
+            const auto sigma = ParseIntrinsicsSigma(intrinsics_sigma, &why);
+            if (!sigma) {
+              std::fprintf(stderr, "--intrinsics-sigma: %s\n", why.c_str());
+              return 2;
+            }
+            calibration.intrinsics_sigma = *sigma;
+          }
           if (given_robot_sigma && robot_mm > 0) {
             calibration.robot_sigma_mm = robot_mm;
             calibration.robot_sigma_deg = robot_deg;
