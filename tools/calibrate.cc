@@ -39,6 +39,7 @@ struct CalibrateArgs {
   bool reorthonormalise = false;
   std::string report;  // --report DIR
   std::string refine_intrinsics;  // --refine-intrinsics LIST
+  std::string intrinsics_sigma;   // --intrinsics-sigma focal=P%,principal_point=Npx | 0
   std::string from;               // --from RESULT
   std::string keep_cameras;       // --keep-cameras LIST
   bool cross_validate = false;
@@ -118,6 +119,12 @@ void RunCalibrate(const CalibrateArgs& args) {
     const auto groups = ParseIntrinsicsGroups(args.refine_intrinsics, &list_why);
     if (!groups) throw InputError("", "", "--refine-intrinsics: " + list_why);
     options.refine_intrinsics = *groups;
+  }
+  if (!args.intrinsics_sigma.empty()) {
+    std::string sigma_why;
+    const auto sigma = ParseIntrinsicsSigma(args.intrinsics_sigma, &sigma_why);
+    if (!sigma) throw InputError("", "", "--intrinsics-sigma: " + sigma_why);
+    options.intrinsics_sigma = *sigma;
   }
   std::optional<Setup> from_setup;
   if (!args.keep_cameras.empty() || !args.from.empty()) {
@@ -233,6 +240,10 @@ void RegisterCalibrate(CLI::App& app) {
   cmd->add_option("--refine-intrinsics", args->refine_intrinsics,
                   "joint: make these intrinsics of every camera unknowns of the solve: focal, "
                   "principal_point, distortion (comma-separated) or all");
+  cmd->add_option("--intrinsics-sigma", args->intrinsics_sigma,
+                  "how far off the given intrinsics may be (1 sigma), carried into every camera's sigma: "
+                  "focal=P% (of fx and fy, one error for both) and/or principal_point=Npx (per axis), "
+                  "comma-separated, or 0 (exact); default focal=1%,principal_point=3px");
   cmd->add_option("--from", args->from,
                   "an earlier result (handeye-result/1) whose camera poses --keep-cameras holds");
   cmd->add_option("--keep-cameras", args->keep_cameras,

@@ -151,6 +151,88 @@ std::vector<unsigned> UnrefinedIntrinsics(const std::vector<std::vector<int>>& f
   return check;
 }
 
+/// The per-camera reprojection solve from `est` (each camera with its own
+/// T_holder_target over all its views), made robust (RobustSolve); `est`
+/// ends at the solution.
+internal::Refinement SolvePerCamera(Problem* problem, const CalibrationOptions& options, Estimate* est,
+                                    std::vector<std::string>* warnings) {
+  const double first_scale =
+      std::max(1.0, 3.0 * internal::ResidualSigmaPx(*problem, est->T_cam_mount, est->T_holder_target));
+  const internal::Refinement refined = internal::RobustSolve(
+      problem, options, first_scale,
+      [&](double scale) {
+        CalibrationOptions round = options;
+        round.cauchy_scale_px = scale;
+        internal::Refinement r = internal::RefinePerCamera(*problem, est->T_cam_mount, est->T_holder_target, round);
+        for (size_t k = 0; k < r.T_cam_mount.size(); ++k)
+          if (r.T_cam_mount[k]) est->T_cam_mount[k] = r.T_cam_mount[k];
+        est->T_holder_target = r.T_holder_target;
+        return r;
+      },
+      warnings);
+  est->T_cam_mount = refined.T_cam_mount;
+  est->T_holder_target = refined.T_holder_target;
+  return refined;
+}
+
+/// Per camera (tangent of T_cam_mount): the covariance, and where the held
+/// given intrinsics at what the views and their prior say would move it
+/// (Refinement::T_cam_mount_intrinsics_shift).
+/// `from_intrinsics`: the part of `covariance` their uncertainty adds.
+struct CameraCovariance {
+  std::map<size_t, Eigen::Matrix<double, 6, 6>> covariance, from_intrinsics;
+  std::map<size_t, Eigen::Matrix<double, 6, 1>> intrinsics_shift;
+  void Add(const internal::Refinement& computed, size_t k) {
+    if (!computed.T_cam_mount_covariance[k]) return;
+    covariance[k] = *computed.T_cam_mount_covariance[k];
+    from_intrinsics[k] = computed.T_cam_mount_intrinsics_covariance[k].value_or(Eigen::Matrix<double, 6, 6>::Zero());
+    if (computed.T_cam_mount_intrinsics_shift[k]) intrinsics_shift[k] = *computed.T_cam_mount_intrinsics_shift[k];
+  }
+};
+
+/// Each camera's covariance under the per-camera model at `est` (its
+/// solution, solved with loss scale `cauchy_scale_px`).
+CameraCovariance PerCameraCovariance(const Problem& problem, const Estimate& est, const CalibrationOptions& options,
+                                     double cauchy_scale_px) {
+  CalibrationOptions at = options;
+  at.cauchy_scale_px = cauchy_scale_px;
+  const internal::Refinement covariance = internal::RefinePerCamera(problem, est.T_cam_mount, est.T_holder_target, at,
+                                                                    internal::JointStep::kCovariance);
+  CameraCovariance out;
+  for (size_t k = 0; k < covariance.T_cam_mount_covariance.size(); ++k)
+    if (est.T_cam_mount[k]) out.Add(covariance, k);
+  return out;
+}
+
+/// A closed form's covariance. A closed form is no minimum of the images'
+/// residuals, so no covariance of its own exists; its error is the
+/// reprojection solve's (from the same views, started at the closed form)
+/// plus the distance d between the two, whose one sample dᵀ·d stands for the
+/// closed form's extra error (robot noise of 0.5 mm costs a closed form
+/// millimetres, the reprojection solve a fraction): Cov = Cov_solve + d dᵀ.
+/// The result stays the closed form's; the solve is only measured.
+CameraCovariance ClosedFormCovariance(const Problem& problem, const Estimate& closed_form,
+                                      const CalibrationOptions& options) {
+  Problem copy = problem;  // the solve's view exclusions are not the closed form's
+  Estimate solved = closed_form;
+  std::vector<std::string> ignored;
+  CameraCovariance out;
+  try {
+    const internal::Refinement refined = SolvePerCamera(&copy, options, &solved, &ignored);
+    out = PerCameraCovariance(copy, solved, options, refined.summary.cauchy_scale_px);
+  } catch (const SolveError&) {
+    return out;  // no solve to measure it by: no σ
+  }
+  const internal::PoseManifold manifold;
+  for (auto& [k, covariance] : out.covariance) {
+    const PoseParams at = ToPoseParams(*solved.T_cam_mount[k]), cf = ToPoseParams(*closed_form.T_cam_mount[k]);
+    Eigen::Matrix<double, 6, 1> d;
+    manifold.Minus(cf.data(), at.data(), d.data());
+    covariance += d * d.transpose();
+  }
+  return out;
+}
+
 }  // namespace
 
 CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& options) {
@@ -211,7 +293,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
   std::map<size_t, IntrinsicsResult> refined_intrinsics;
   std::optional<internal::RobotPrior> robot_model;  // the joint solve's, when it modelled the robot's error
   std::vector<std::vector<int>> free_intrinsics;      // the joint solve's, by camera
-  std::map<size_t, Eigen::Matrix<double, 6, 6>> camera_covariance;  // tangent of T_cam_mount
+  CameraCovariance camera_covariance;
   std::vector<CameraResult::CrossValidation> camera_validation;
   if (options.method == Method::kJoint) {
     internal::Initialisation init = internal::InitialiseJoint(problem);
@@ -339,7 +421,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     if (options.cross_validate) internal::CrossValidate(problem, init, final_options, robot, &camera_validation);
     for (size_t k = 0; k < num_cameras; ++k)
       if (est.T_cam_mount[k] && covariance.T_cam_mount_covariance[k])
-        camera_covariance[k] = *covariance.T_cam_mount_covariance[k];
+        camera_covariance.Add(covariance, k);
     if (covariance.T_holder_target_covariance)
       result.target_sigma =
           internal::UncertaintyOf(est.shared_T_holder_target, *covariance.T_holder_target_covariance, false);
@@ -399,27 +481,13 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
           return internal::SilentClosedFormHandEye(diverse, camera, &chosen, why);
         },
         MethodName(options.method), &result.warnings);
-    const double first_scale =
-        std::max(1.0, 3.0 * internal::ResidualSigmaPx(problem, est.T_cam_mount, est.T_holder_target));
-    const internal::Refinement refined = internal::RobustSolve(
-        &problem, options, first_scale,
-        [&](double scale) {
-          CalibrationOptions round = options;
-          round.cauchy_scale_px = scale;
-          internal::Refinement r = internal::RefinePerCamera(problem, est.T_cam_mount, est.T_holder_target, round);
-          for (size_t k = 0; k < r.T_cam_mount.size(); ++k)
-            if (r.T_cam_mount[k]) est.T_cam_mount[k] = r.T_cam_mount[k];
-          est.T_holder_target = r.T_holder_target;
-          return r;
-        },
-        &result.warnings);
-    est.T_cam_mount = refined.T_cam_mount;
-    est.T_holder_target = refined.T_holder_target;
+    const internal::Refinement refined = SolvePerCamera(&problem, options, &est, &result.warnings);
     std::vector<Eigen::Isometry3d> solved;
     for (size_t k = 0; k < est.T_cam_mount.size(); ++k)
       if (est.T_cam_mount[k]) solved.push_back(est.T_holder_target[k]);
     est.shared_T_holder_target = internal::MeanTransform(solved);
     result.solver = refined.summary;
+    camera_covariance = PerCameraCovariance(problem, est, options, refined.summary.cauchy_scale_px);
   } else {
     est = PerCameraEstimate(
         problem,
@@ -429,6 +497,7 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
         MethodName(options.method), &result.warnings);
     result.solver.converged = true;
     result.solver.termination = "CLOSED_FORM";
+    camera_covariance = ClosedFormCovariance(problem, est, options);
   }
   if (!result.solver.converged) {
     std::ostringstream warning;
@@ -494,12 +563,25 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
         UnrefinedIntrinsics(free_intrinsics, num_cameras), robot_model, &shift);
     result.warnings.insert(result.warnings.end(), intrinsics_warnings.begin(), intrinsics_warnings.end());
     // Intrinsics the views find off bias the camera, which no covariance of
-    // the solve with them held holds: its σ takes the shift as a term of its own.
+    // the solve with them held holds: its σ takes the shift as a term of its
+    // own, the one the views alone give (not drawn to the given values by
+    // the prior, as the solve's is).
+    // (That shift was in σ before the given intrinsics were uncertain
+    // inputs, so it is not counted in the part they add.)
     for (const auto& [k, moved] : shift)
-      if (camera_covariance.count(k)) camera_covariance[k] += moved * moved.transpose();
+      if (camera_covariance.covariance.count(k)) {
+        camera_covariance.covariance[k] += moved * moved.transpose();
+        camera_covariance.intrinsics_shift.erase(k);
+      }
   }
-  for (const auto& [k, covariance] : camera_covariance)
-    result.cameras[k].sigma = internal::UncertaintyOf(*est.T_cam_mount[k], covariance, true);
+  for (const auto& [k, moved] : camera_covariance.intrinsics_shift)
+    if (camera_covariance.covariance.count(k)) camera_covariance.from_intrinsics[k] += moved * moved.transpose();
+  for (const auto& [k, covariance] : camera_covariance.covariance) {
+    const Eigen::Matrix<double, 6, 6>& from_intrinsics = camera_covariance.from_intrinsics[k];
+    PoseUncertainty sigma = internal::UncertaintyOf(*est.T_cam_mount[k], covariance + from_intrinsics, true);
+    sigma.from_given_intrinsics = internal::UncertaintyOf(*est.T_cam_mount[k], from_intrinsics, true).covariance;
+    result.cameras[k].sigma = sigma;
+  }
   const auto quality = internal::DiagnoseSolution(problem, est.T_cam_mount, T_holder_target, options, &result);
   result.warnings.insert(result.warnings.end(), quality.begin(), quality.end());
   result.options = options;

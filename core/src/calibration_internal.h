@@ -241,6 +241,13 @@ struct Refinement {
   /// the Jacobian is rank deficient).
   std::vector<std::array<double, OpenCVCameraModel::kNumParams>> intrinsics_sigma;
   std::vector<std::optional<Eigen::Matrix<double, 6, 6>>> T_cam_mount_covariance;
+  /// With the covariance: per camera, where its T_cam_mount would be (tangent)
+  /// with the held given intrinsics at what their prior and the views together
+  /// say (ConsiderCovariance::Shift; zero when they are exact or all refined).
+  std::vector<std::optional<Eigen::Matrix<double, 6, 1>>> T_cam_mount_intrinsics_shift;
+  /// With the covariance: per camera, the part of T_cam_mount_covariance the
+  /// held given intrinsics' uncertainty adds (ConsiderCovariance::Consider).
+  std::vector<std::optional<Eigen::Matrix<double, 6, 6>>> T_cam_mount_intrinsics_covariance;
   std::optional<Eigen::Matrix<double, 6, 6>> T_holder_target_covariance;
 };
 
@@ -301,8 +308,11 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
                        const CalibrationOptions& options, const std::optional<RobotPrior>& robot = std::nullopt,
                        JointStep step = JointStep::kSolve);
 /// One T_holder_target per camera, no cross terms (for --method per-camera).
+/// JointStep::kCovariance: no solve, each camera's T_cam_mount_covariance at
+/// the given values, its given intrinsics uncertain inputs.
 Refinement RefinePerCamera(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                           const std::vector<Eigen::Isometry3d>& T_holder_target, const CalibrationOptions& options);
+                           const std::vector<Eigen::Isometry3d>& T_holder_target, const CalibrationOptions& options,
+                           JointStep step = JointStep::kSolve);
 
 /// The intrinsics (OpenCVCameraModel indices) of `camera` that the groups
 /// (IntrinsicsGroup flags) make unknowns: distortion is k1, k2, p1, p2 and
@@ -325,6 +335,28 @@ std::array<double, OpenCVCameraModel::kNumParams> IntrinsicsPriorSigma(const Cam
 /// The prior residuals of the free intrinsics about `given`, in the units of
 /// pixel residuals of σ `pixel_sigma_px`. Block: the camera's 18 intrinsics.
 ceres::CostFunction* IntrinsicsPrior(const Camera& given, const std::vector<int>& free, double pixel_sigma_px);
+
+/// The given intrinsics of a camera that are uncertain inputs of a solve
+/// that holds them (ConsiderCovariance): those of fx, fy, cx, cy not in
+/// `free` whose group has a σ in `sigma`, ascending, with their covariance
+/// (fx and fy share one relative error; cx and cy independent).
+struct UncertainIntrinsics {
+  std::vector<int> params;
+  Eigen::MatrixXd covariance;
+};
+UncertainIntrinsics UncertainGivenIntrinsics(const Camera& camera, const std::vector<int>& free,
+                                             const GivenIntrinsicsSigma& sigma);
+/// A prior on `uncertain.params` about the camera's values, weighted as pixel
+/// residuals of σ `pixel_sigma_px` (only needs to make the information
+/// invertible: ConsiderCovariance does not depend on it). Block: the 18 intrinsics.
+ceres::CostFunction* UncertainIntrinsicsPrior(const Camera& camera, const UncertainIntrinsics& uncertain,
+                                              double pixel_sigma_px);
+/// The information that prior gives `uncertain.params` (diagonal, its units).
+Eigen::MatrixXd UncertainIntrinsicsPriorInformation(const UncertainIntrinsics& uncertain, double pixel_sigma_px);
+/// `free` and `uncertain.params` together, ascending: a block's tangent
+/// coordinates; *uncertain_tangent gets where the uncertain ones are in it.
+std::vector<int> IntrinsicsUnknowns(const std::vector<int>& free, const UncertainIntrinsics& uncertain,
+                                    std::vector<int>* uncertain_tangent);
 
 /// The free intrinsics the views hardly determine: their 1σ after the solve
 /// is more than half their prior's (the prior, not the views, holds them).

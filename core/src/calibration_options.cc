@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The names and checks of CalibrationOptions: methods, intrinsics groups.
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 
 #include "handeye/core/calibration.h"
@@ -73,6 +74,44 @@ std::optional<unsigned> ParseIntrinsicsGroups(const std::string& list, std::stri
   return groups;
 }
 
+std::optional<GivenIntrinsicsSigma> ParseIntrinsicsSigma(const std::string& text, std::string* why,
+                                                         const GivenIntrinsicsSigma& defaults) {
+  static const char* kExpected =
+      "expected focal=P% and/or principal_point=Npx (comma-separated), or 0 (the given intrinsics exact)";
+  auto fail = [&](const std::string& got) -> std::optional<GivenIntrinsicsSigma> {
+    if (why) *why = std::string(kExpected) + ", got '" + got + "'";
+    return std::nullopt;
+  };
+  if (text == "0") return GivenIntrinsicsSigma{0.0, 0.0};
+  GivenIntrinsicsSigma sigma = defaults;
+  std::stringstream in(text);
+  std::string item;
+  bool any = false;
+  while (std::getline(in, item, ',')) {
+    const auto equals = item.find('=');
+    if (equals == std::string::npos) return fail(item);
+    const std::string key = item.substr(0, equals), value = item.substr(equals + 1);
+    const std::string unit = key == "focal" ? "%" : key == "principal_point" ? "px" : "";
+    if (unit.empty() || value.size() <= unit.size() ||
+        value.compare(value.size() - unit.size(), unit.size(), unit) != 0)
+      return fail(item);
+    const std::string number = value.substr(0, value.size() - unit.size());
+    char* end = nullptr;
+    const double v = std::strtod(number.c_str(), &end);
+    if (end != number.c_str() + number.size() || !std::isfinite(v) || v < 0) return fail(item);
+    (key == "focal" ? sigma.focal_percent : sigma.principal_point_px) = v;
+    any = true;
+  }
+  if (!any) return fail(text);
+  return sigma;
+}
+
+std::string IntrinsicsSigmaText(const GivenIntrinsicsSigma& sigma) {
+  std::ostringstream out;
+  out << "focal=" << sigma.focal_percent << "%,principal_point=" << sigma.principal_point_px << "px";
+  return out.str();
+}
+
 bool CalibrationOptions::Check(std::string* why) const {
   auto fail = [why](const char* reason) {
     if (why) *why = reason;
@@ -95,6 +134,9 @@ bool CalibrationOptions::Check(std::string* why) const {
   if (refine_intrinsics > kAllIntrinsics) return fail("refine_intrinsics: IntrinsicsGroup flags");
   if (refine_intrinsics != kNoIntrinsics && method != Method::kJoint)
     return fail("intrinsics are refined by the joint method only (--method joint)");
+  if (!(intrinsics_sigma.focal_percent >= 0) || !std::isfinite(intrinsics_sigma.focal_percent) ||
+      !(intrinsics_sigma.principal_point_px >= 0) || !std::isfinite(intrinsics_sigma.principal_point_px))
+    return fail("intrinsics_sigma: finite and >= 0");
   if (warn.min_views_per_camera < 0) return fail("warn.min_views_per_camera must be >= 0");
   for (double v : {warn.min_rotation_spread_deg, warn.min_axis_spread_deg, warn.max_camera_rms_px,
                    warn.max_closed_form_disagreement_px})

@@ -174,6 +174,52 @@ ceres::CostFunction* IntrinsicsPrior(const Camera& given, const std::vector<int>
   return new IntrinsicsPriorCost(given.params, free, std::move(weight));
 }
 
+UncertainIntrinsics UncertainGivenIntrinsics(const Camera& camera, const std::vector<int>& free,
+                                             const GivenIntrinsicsSigma& sigma) {
+  auto is_free = [&](int p) { return std::find(free.begin(), free.end(), p) != free.end(); };
+  UncertainIntrinsics out;
+  const double focal = 0.01 * sigma.focal_percent;
+  if (focal > 0 && !is_free(0) && !is_free(1)) out.params.insert(out.params.end(), {0, 1});
+  if (sigma.principal_point_px > 0 && !is_free(2) && !is_free(3)) out.params.insert(out.params.end(), {2, 3});
+  const int n = static_cast<int>(out.params.size());
+  out.covariance = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const int p = out.params[i], q = out.params[j];
+      if (p < 2 && q < 2)
+        out.covariance(i, j) = focal * focal * camera.params[p] * camera.params[q];
+      else if (p == q)
+        out.covariance(i, j) = sigma.principal_point_px * sigma.principal_point_px;
+    }
+  return out;
+}
+
+ceres::CostFunction* UncertainIntrinsicsPrior(const Camera& camera, const UncertainIntrinsics& uncertain,
+                                              double pixel_sigma_px) {
+  std::vector<double> weight;
+  for (size_t i = 0; i < uncertain.params.size(); ++i)
+    weight.push_back(pixel_sigma_px / std::sqrt(uncertain.covariance(i, i)));
+  return new IntrinsicsPriorCost(camera.params, uncertain.params, std::move(weight));
+}
+
+Eigen::MatrixXd UncertainIntrinsicsPriorInformation(const UncertainIntrinsics& uncertain, double pixel_sigma_px) {
+  // The weights of UncertainIntrinsicsPrior, squared.
+  return (pixel_sigma_px * pixel_sigma_px * uncertain.covariance.diagonal().cwiseInverse()).asDiagonal();
+}
+
+std::vector<int> IntrinsicsUnknowns(const std::vector<int>& free, const UncertainIntrinsics& uncertain,
+                                    std::vector<int>* uncertain_tangent) {
+  std::vector<int> unknowns = free;
+  unknowns.insert(unknowns.end(), uncertain.params.begin(), uncertain.params.end());
+  std::sort(unknowns.begin(), unknowns.end());
+  unknowns.erase(std::unique(unknowns.begin(), unknowns.end()), unknowns.end());
+  uncertain_tangent->clear();
+  for (int p : uncertain.params)
+    uncertain_tangent->push_back(
+        static_cast<int>(std::lower_bound(unknowns.begin(), unknowns.end(), p) - unknowns.begin()));
+  return unknowns;
+}
+
 std::vector<int> UndeterminedIntrinsics(const Camera& given, const Intrinsics& sigma, const std::vector<int>& free) {
   const Intrinsics prior = IntrinsicsPriorSigma(given);
   std::vector<int> undetermined;

@@ -14,7 +14,7 @@
 #include <memory>
 
 #include "calibration_internal.h"
-#include "covariance.h"
+#include "consider_covariance.h"
 #include "handeye/core/cost_functions.h"
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
@@ -71,6 +71,30 @@ std::shared_ptr<const ViewPoints> Points(const View& view) {
 
 void SetPoseManifold(ceres::Problem* problem, double* block) {
   problem->SetManifold(block, new PoseManifold());
+}
+
+/// Adds a camera's 18 intrinsics `K` as a block whose `unknowns` (ascending) are free.
+double* AddIntrinsicsBlock(ceres::Problem* problem, double* K, const std::vector<int>& unknowns) {
+  problem->AddParameterBlock(K, OpenCVCameraModel::kNumParams);
+  std::vector<int> constant;
+  for (int p = 0; p < OpenCVCameraModel::kNumParams; ++p)
+    if (!std::binary_search(unknowns.begin(), unknowns.end(), p)) constant.push_back(p);
+  if (!constant.empty())
+    problem->SetManifold(K, new ceres::SubsetManifold(OpenCVCameraModel::kNumParams, constant));
+  return K;
+}
+
+/// The stacked covariance of the uncertain inputs, block-diagonal over cameras.
+Eigen::MatrixXd BlockDiagonal(const std::vector<Eigen::MatrixXd>& blocks) {
+  Eigen::Index n = 0;
+  for (const auto& b : blocks) n += b.rows();
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, n);
+  Eigen::Index at = 0;
+  for (const auto& b : blocks) {
+    out.block(at, at, b.rows(), b.cols()) = b;
+    at += b.rows();
+  }
+  return out;
 }
 
 ceres::Solver::Options SolverOptions(const CalibrationOptions& options, const ceres::Problem& problem) {
@@ -180,8 +204,8 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
                         double* T_holder_target, const std::vector<double*>& K,
                         const std::vector<ceres::ResidualBlockId>& views,
                         const std::optional<RobotPrior>& robot,
-                        const std::vector<RobotPoseBlock>& robot_poses, int threads,
-                        Refinement* out) {
+                        const std::vector<RobotPoseBlock>& robot_poses, ConsiderCovariance* covariance,
+                        int threads, Refinement* out) {
   constexpr int kN = OpenCVCameraModel::kNumParams;
   out->intrinsics_sigma.assign(K.size(), {});
   for (auto& s : out->intrinsics_sigma) s.fill(0.0);
@@ -203,23 +227,30 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
       for (const RobotPoseBlock& pose : robot_poses) pairs.emplace_back(block, pose.pose);
   }
   const double variance_factor = VarianceFactor(problem, views);
-  const BlockCovariance covariance(problem, pairs, ceres::SPARSE_QR, threads);
-  const bool ok = covariance.ok();
+  const bool ok = covariance->Compute(pairs, problem, threads);
 
   const std::vector<Eigen::Matrix<double, 6, 6>> M =
       sandwich ? SandwichWeights(*problem, robot_poses, *robot)
                : std::vector<Eigen::Matrix<double, 6, 6>>{};
-  auto tangent_block = [&](const double* a, const double* b) { return covariance.Tangent(a, b); };
+  auto tangent_block = [&](const double* a, const double* b) { return covariance->Block(a, b); };
+  // The solve's own covariance, then what the held intrinsics' error adds
+  // (already in the units of the parameters: no variance factor).
   auto pose_covariance = [&](const double* block) {
     Eigen::MatrixXd C = tangent_block(block, block);
     if (sandwich) C -= SandwichCorrection(robot_poses, M, tangent_block, block);
     return Eigen::Matrix<double, 6, 6>(C * variance_factor);
   };
+  out->T_cam_mount_intrinsics_shift.assign(T_cam_mount.size(), std::nullopt);
+  out->T_cam_mount_intrinsics_covariance.assign(T_cam_mount.size(), std::nullopt);
   if (ok) {
     for (size_t k = 0; k < T_cam_mount.size(); ++k)
-      if (T_cam_mount[k] && !problem->IsParameterBlockConstant(T_cam_mount[k]))
+      if (T_cam_mount[k] && !problem->IsParameterBlockConstant(T_cam_mount[k])) {
         out->T_cam_mount_covariance[k] = pose_covariance(T_cam_mount[k]);
-    out->T_holder_target_covariance = pose_covariance(T_holder_target);
+        out->T_cam_mount_intrinsics_shift[k] = covariance->Shift(T_cam_mount[k], variance_factor);
+        out->T_cam_mount_intrinsics_covariance[k] = covariance->Consider(T_cam_mount[k], variance_factor);
+      }
+    out->T_holder_target_covariance =
+        pose_covariance(T_holder_target) + covariance->Consider(T_holder_target, variance_factor);
   }
   for (size_t k = 0; k < K.size(); ++k) {
     if (!K[k]) continue;
@@ -227,15 +258,15 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
         Eigen::Matrix<double, kN, kN, Eigen::RowMajor>::Zero();
     const ceres::Manifold* manifold = problem->GetManifold(K[k]);
     if (ok) {
-      C = covariance.Ambient(K[k], K[k]);
-      if (sandwich) {
-        // The correction in the tangent space (the free intrinsics), back to all 18.
-        Eigen::Matrix<double, kN, Eigen::Dynamic, Eigen::RowMajor> P =
-            Eigen::Matrix<double, kN, Eigen::Dynamic, Eigen::RowMajor>::Identity(
-                kN, problem->ParameterBlockTangentSize(K[k]));
-        if (manifold) manifold->PlusJacobian(K[k], P.data());
-        C -= P * SandwichCorrection(robot_poses, M, tangent_block, K[k]) * P.transpose();
-      }
+      // In the tangent space (the free and the held uncertain intrinsics;
+      // the latter's rows are 0), back to all 18.
+      Eigen::Matrix<double, kN, Eigen::Dynamic, Eigen::RowMajor> P =
+          Eigen::Matrix<double, kN, Eigen::Dynamic, Eigen::RowMajor>::Identity(
+              kN, problem->ParameterBlockTangentSize(K[k]));
+      if (manifold) manifold->PlusJacobian(K[k], P.data());
+      Eigen::MatrixXd C_tangent = tangent_block(K[k], K[k]);
+      if (sandwich) C_tangent -= SandwichCorrection(robot_poses, M, tangent_block, K[k]);
+      C = P * C_tangent * P.transpose();
     }
     for (int p = 0; p < kN; ++p)
       out->intrinsics_sigma[k][p] =
@@ -277,20 +308,32 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
   using Intrinsics = std::array<double, OpenCVCameraModel::kNumParams>;
   std::vector<Intrinsics> K(dataset.cameras.size());
   std::vector<double*> K_block(dataset.cameras.size(), nullptr);
+  // For the covariance, the given intrinsics that stay held are uncertain
+  // inputs too (ConsiderCovariance): unknowns of the problem under a prior.
+  std::vector<ConsiderCovariance::Coordinates> uncertain_coordinates;
+  std::vector<Eigen::MatrixXd> uncertain_covariances, uncertain_prior_information;
   for (size_t k = 0; k < K.size(); ++k) {
     K[k] = dataset.cameras[k].params;
-    if (!T_cam_mount[k] || k >= init.free_intrinsics.size() || init.free_intrinsics[k].empty()) continue;
-    K_block[k] = K[k].data();
-    ceres_problem.AddParameterBlock(K_block[k], OpenCVCameraModel::kNumParams);
-    std::vector<int> constant;
-    for (int p = 0; p < OpenCVCameraModel::kNumParams; ++p)
-      if (std::find(init.free_intrinsics[k].begin(), init.free_intrinsics[k].end(), p) ==
-          init.free_intrinsics[k].end())
-        constant.push_back(p);
-    if (!constant.empty())
-      ceres_problem.SetManifold(K_block[k], new ceres::SubsetManifold(OpenCVCameraModel::kNumParams, constant));
-    ceres_problem.AddResidualBlock(IntrinsicsPrior(init.given_cameras[k], init.free_intrinsics[k], init.pixel_sigma_px),
-                                   nullptr, K_block[k]);
+    if (!T_cam_mount[k]) continue;
+    const std::vector<int> free = k < init.free_intrinsics.size() ? init.free_intrinsics[k] : std::vector<int>{};
+    const UncertainIntrinsics uncertain =
+        step == JointStep::kCovariance
+            ? UncertainGivenIntrinsics(dataset.cameras[k], free, options.intrinsics_sigma)
+            : UncertainIntrinsics{};
+    std::vector<int> uncertain_tangent;
+    const std::vector<int> unknowns = IntrinsicsUnknowns(free, uncertain, &uncertain_tangent);
+    if (unknowns.empty()) continue;
+    K_block[k] = AddIntrinsicsBlock(&ceres_problem, K[k].data(), unknowns);
+    if (!free.empty())
+      ceres_problem.AddResidualBlock(IntrinsicsPrior(init.given_cameras[k], free, init.pixel_sigma_px), nullptr,
+                                     K_block[k]);
+    if (!uncertain.params.empty()) {
+      ceres_problem.AddResidualBlock(UncertainIntrinsicsPrior(dataset.cameras[k], uncertain, init.pixel_sigma_px),
+                                     nullptr, K_block[k]);
+      uncertain_coordinates.push_back({K_block[k], uncertain_tangent});
+      uncertain_covariances.push_back(uncertain.covariance);
+      uncertain_prior_information.push_back(UncertainIntrinsicsPriorInformation(uncertain, init.pixel_sigma_px));
+    }
   }
 
   // With a robot prior, each robot pose with a used view is a block, tied to
@@ -413,9 +456,12 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
   out.T_mount_holder.resize(T_mount_holder.size());
   for (size_t j = 0; j < T_mount_holder.size(); ++j)
     if (T_mount_holder[j]) out.T_mount_holder[j] = PoseBlocks::Get(T_mount_holder[j]);
-  if (step == JointStep::kCovariance)
+  if (step == JointStep::kCovariance) {
+    ConsiderCovariance covariance(uncertain_coordinates, BlockDiagonal(uncertain_covariances),
+                                  BlockDiagonal(uncertain_prior_information));
     SolutionCovariance(&ceres_problem, T_cam_mount, T_holder_target, K_block, direct_blocks, robot,
-                       robot_poses, options.threads, &out);
+                       robot_poses, &covariance, options.threads, &out);
+  }
   return out;
 }
 
@@ -429,10 +475,13 @@ void WarmStart(const Refinement& solved, Initialisation* init) {
 Refinement RefinePerCamera(const Problem& problem,
                            const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount_start,
                            const std::vector<Eigen::Isometry3d>& T_holder_target_start,
-                           const CalibrationOptions& options) {
+                           const CalibrationOptions& options, JointStep step) {
   const Dataset& dataset = *problem.dataset;
   Refinement out;
   out.T_cam_mount.resize(dataset.cameras.size());
+  out.T_cam_mount_covariance.resize(dataset.cameras.size());
+  out.T_cam_mount_intrinsics_shift.resize(dataset.cameras.size());
+  out.T_cam_mount_intrinsics_covariance.resize(dataset.cameras.size());
   out.T_holder_target = T_holder_target_start;
   out.summary.converged = true;  // until a camera's solve does not
   out.summary.cauchy_scale_px = options.cauchy_scale_px;
@@ -449,12 +498,41 @@ Refinement RefinePerCamera(const Problem& problem,
       ceres_problem.AddParameterBlock(b, 7);
       SetPoseManifold(&ceres_problem, b);
     }
+    // For the covariance, the camera's given intrinsics as uncertain inputs (ConsiderCovariance).
+    const UncertainIntrinsics uncertain = step == JointStep::kCovariance
+                                              ? UncertainGivenIntrinsics(dataset.cameras[k], {}, options.intrinsics_sigma)
+                                              : UncertainIntrinsics{};
+    std::array<double, OpenCVCameraModel::kNumParams> K = dataset.cameras[k].params;
+    std::vector<int> uncertain_tangent;
+    const std::vector<int> unknowns = IntrinsicsUnknowns({}, uncertain, &uncertain_tangent);
+    double* K_block = unknowns.empty() ? nullptr : AddIntrinsicsBlock(&ceres_problem, K.data(), unknowns);
+    if (K_block)
+      ceres_problem.AddResidualBlock(UncertainIntrinsicsPrior(dataset.cameras[k], uncertain, 1.0), nullptr, K_block);
+    std::vector<ceres::ResidualBlockId> views;
     for (int v : problem.camera_views[k]) {
       const View& view = problem.views[v];
-      ceres_problem.AddResidualBlock(
+      std::vector<double*> view_blocks = {T_cam_mount, T_holder_target};
+      if (K_block) view_blocks.push_back(K_block);
+      views.push_back(ceres_problem.AddResidualBlock(
           ViewReprojectionError::Create(dataset.cameras[k], problem.T_mount_holder[view.pose], Points(view),
-                                        options.cauchy_scale_px),
-          nullptr, T_cam_mount, T_holder_target);
+                                        options.cauchy_scale_px, K_block != nullptr),
+          nullptr, view_blocks));
+    }
+    out.T_holder_target[k] = PoseBlocks::Get(T_holder_target);
+    if (step == JointStep::kCovariance) {
+      out.T_cam_mount[k] = PoseBlocks::Get(T_cam_mount);
+      ConsiderCovariance covariance(
+          K_block ? std::vector<ConsiderCovariance::Coordinates>{{K_block, uncertain_tangent}}
+                  : std::vector<ConsiderCovariance::Coordinates>{},
+          uncertain.covariance, UncertainIntrinsicsPriorInformation(uncertain, 1.0));
+      if (covariance.Compute({{T_cam_mount, T_cam_mount}}, &ceres_problem, options.threads)) {
+        const double variance_factor = VarianceFactor(&ceres_problem, views);
+        out.T_cam_mount_covariance[k] =
+            Eigen::Matrix<double, 6, 6>(covariance.Block(T_cam_mount, T_cam_mount) * variance_factor);
+        out.T_cam_mount_intrinsics_shift[k] = covariance.Shift(T_cam_mount, variance_factor);
+        out.T_cam_mount_intrinsics_covariance[k] = covariance.Consider(T_cam_mount, variance_factor);
+      }
+      continue;
     }
     const SolverSummary s = Solve(SolverOptions(options, ceres_problem), options, &ceres_problem);
     out.summary.seconds += s.seconds;

@@ -34,27 +34,41 @@ bool ReadBool(const JsonReader& value) {
   return value.json().get<bool>();
 }
 
-nlohmann::ordered_json SigmaJson(const PoseUncertainty& sigma) {
-  nlohmann::ordered_json covariance = nlohmann::ordered_json::array();
+nlohmann::ordered_json Matrix6Json(const Eigen::Matrix<double, 6, 6>& m) {
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   for (int r = 0; r < 6; ++r) {
     nlohmann::ordered_json row = nlohmann::ordered_json::array();
-    for (int c = 0; c < 6; ++c) row.push_back(sigma.covariance(r, c));
-    covariance.push_back(row);
+    for (int c = 0; c < 6; ++c) row.push_back(m(r, c));
+    rows.push_back(row);
   }
-  return {{"position_mm", sigma.position_mm}, {"rotation_deg", sigma.rotation_deg}, {"covariance", covariance}};
+  return rows;
+}
+
+nlohmann::ordered_json SigmaJson(const PoseUncertainty& sigma) {
+  nlohmann::ordered_json out = {
+      {"position_mm", sigma.position_mm}, {"rotation_deg", sigma.rotation_deg}, {"covariance", Matrix6Json(sigma.covariance)}};
+  if (!sigma.from_given_intrinsics.isZero()) out["covariance_from_given_intrinsics"] = Matrix6Json(sigma.from_given_intrinsics);
+  return out;
+}
+
+Eigen::Matrix<double, 6, 6> ReadMatrix6(const JsonReader& rows) {
+  Eigen::Matrix<double, 6, 6> m;
+  if (rows.ArraySize("a 6×6 array") != 6) throw rows.Error("a 6×6 array");
+  for (int row = 0; row < 6; ++row) {
+    const JsonReader values = rows.At(row);
+    if (values.ArraySize("a row of 6 numbers") != 6) throw values.Error("a row of 6 numbers");
+    for (int c = 0; c < 6; ++c) m(row, c) = values.At(c).Number();
+  }
+  return m;
 }
 
 PoseUncertainty ReadSigma(const JsonReader& r) {
   PoseUncertainty sigma;
   sigma.position_mm = r.Key("position_mm").Number();
   sigma.rotation_deg = r.Key("rotation_deg").Number();
-  const JsonReader covariance = r.Key("covariance");
-  if (covariance.ArraySize("a 6×6 array") != 6) throw covariance.Error("a 6×6 array");
-  for (int row = 0; row < 6; ++row) {
-    const JsonReader values = covariance.At(row);
-    if (values.ArraySize("a row of 6 numbers") != 6) throw values.Error("a row of 6 numbers");
-    for (int c = 0; c < 6; ++c) sigma.covariance(row, c) = values.At(c).Number();
-  }
+  sigma.covariance = ReadMatrix6(r.Key("covariance"));
+  if (r.Has("covariance_from_given_intrinsics"))
+    sigma.from_given_intrinsics = ReadMatrix6(r.Key("covariance_from_given_intrinsics"));
   return sigma;
 }
 
@@ -156,6 +170,9 @@ nlohmann::ordered_json OptionsJson(const CalibrationOptions& o) {
           {"robot_sigma_mm", o.robot_sigma_mm},
           {"robot_sigma_deg", o.robot_sigma_deg},
           {"refine_intrinsics", o.refine_intrinsics},
+          {"intrinsics_sigma",
+           {{"focal_percent", o.intrinsics_sigma.focal_percent},
+            {"principal_point_px", o.intrinsics_sigma.principal_point_px}}},
           {"compare_closed_form", o.compare_closed_form},
           {"warn",
            {{"min_views_per_camera", w.min_views_per_camera},
@@ -173,6 +190,13 @@ void ReadOptions(const JsonReader& r, CalibrationOptions* o) {
   o->robot_sigma_mm = r.Key("robot_sigma_mm").Number();
   o->robot_sigma_deg = r.Key("robot_sigma_deg").Number();
   o->refine_intrinsics = static_cast<unsigned>(r.Key("refine_intrinsics").Int(0, kAllIntrinsics));
+  if (r.Has("intrinsics_sigma")) {  // results written before it took the given intrinsics as exact
+    const JsonReader s = r.Key("intrinsics_sigma");
+    o->intrinsics_sigma.focal_percent = s.Key("focal_percent").Number();
+    o->intrinsics_sigma.principal_point_px = s.Key("principal_point_px").Number();
+  } else {
+    o->intrinsics_sigma = GivenIntrinsicsSigma{0.0, 0.0};
+  }
   o->compare_closed_form = ReadBool(r.Key("compare_closed_form"));
   const JsonReader w = r.Key("warn");
   o->warn.min_views_per_camera = w.Key("min_views_per_camera").Int(0);

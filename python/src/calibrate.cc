@@ -43,6 +43,17 @@ unsigned IntrinsicsFrom(py::handle refine) {
   return *groups;
 }
 
+// The given intrinsics' σ: None (the defaults), or the --intrinsics-sigma text.
+GivenIntrinsicsSigma IntrinsicsSigmaFrom(py::handle value) {
+  if (value.is_none()) return GivenIntrinsicsSigma{};
+  if (!py::isinstance<py::str>(value))
+    throw InputError("", "intrinsics_sigma", "expected a string such as 'focal=1%,principal_point=3px', '0' or None");
+  std::string why;
+  const auto sigma = ParseIntrinsicsSigma(value.cast<std::string>(), &why);
+  if (!sigma) throw InputError("", "intrinsics_sigma", why);
+  return *sigma;
+}
+
 // A robot sigma as given (None: -1, estimated), which must be finite and >= 0.
 double RobotSigma(py::handle value, const std::string& name) {
   if (value.is_none()) return -1;
@@ -84,7 +95,7 @@ struct CalibrateCall {
   std::string method;
   double cauchy_scale_px;
   bool cross_terms, keep_all_views, cross_validate, closed_form, reorthonormalise;
-  py::object robot_sigma_mm, robot_sigma_deg, refine_intrinsics, from_result, keep_cameras;
+  py::object robot_sigma_mm, robot_sigma_deg, refine_intrinsics, intrinsics_sigma, from_result, keep_cameras;
   int threads;
   py::object progress;
 };
@@ -99,6 +110,7 @@ CalibrationOptions OptionsOf(const CalibrateCall& call, std::optional<Setup>* fr
   options.robot_sigma_mm = RobotSigma(call.robot_sigma_mm, "robot_sigma_mm");
   options.robot_sigma_deg = RobotSigma(call.robot_sigma_deg, "robot_sigma_deg");
   options.refine_intrinsics = IntrinsicsFrom(call.refine_intrinsics);
+  options.intrinsics_sigma = IntrinsicsSigmaFrom(call.intrinsics_sigma);
   Setup setup{};
   HoldCameras(call.from_result, call.keep_cameras, &options, &setup);
   if (!options.fixed_cameras.empty()) *from_setup = setup;
@@ -169,18 +181,19 @@ void AddCalibrate(py::module_& m) {
       "calibrate",
       [](py::object source, const std::string& method, double cauchy_scale_px, bool cross_terms,
          bool keep_all_views, py::object robot_sigma_mm, py::object robot_sigma_deg,
-         py::object refine_intrinsics, py::object from_result, py::object keep_cameras,
-         bool cross_validate, bool closed_form, int threads, bool reorthonormalise,
+         py::object refine_intrinsics, py::object intrinsics_sigma, py::object from_result,
+         py::object keep_cameras, bool cross_validate, bool closed_form, int threads, bool reorthonormalise,
          py::object progress) {
         return Calibrate(CalibrateCall{source, method, cauchy_scale_px, cross_terms, keep_all_views,
                                        cross_validate, closed_form, reorthonormalise,
                                        robot_sigma_mm, robot_sigma_deg, refine_intrinsics,
-                                       from_result, keep_cameras, threads, progress});
+                                       intrinsics_sigma, from_result, keep_cameras, threads, progress});
       },
       py::arg("source"), py::kw_only(), py::arg("method") = "joint",
       py::arg("cauchy_scale_px") = 0.0, py::arg("cross_terms") = true,
       py::arg("keep_all_views") = false, py::arg("robot_sigma_mm") = py::none(),
       py::arg("robot_sigma_deg") = py::none(), py::arg("refine_intrinsics") = py::none(),
+      py::arg("intrinsics_sigma") = py::none(),
       py::arg("from_result") = py::none(), py::arg("keep_cameras") = py::none(),
       py::arg("cross_validate") = false, py::arg("closed_form") = true, py::arg("threads") = 0,
       py::arg("reorthonormalise") = false, py::arg("progress") = py::none(),

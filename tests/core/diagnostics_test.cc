@@ -133,3 +133,49 @@ TEST_CASE("evaluate measures a camera's pose error as the closed-form comparison
     CHECK(error.rotation_deg == Approx(cam.closed_form->rotation_deg).epsilon(1e-12));
   }
 }
+
+TEST_CASE("A closed-form disagreement names the closed form that failed, not the robot", "[diagnostics]") {
+  // On this cell OpenCV's Tsai puts every camera metres off while Park and
+  // ViSP agree with each other: compared with a Park result, the warning
+  // must blame Tsai, not the robot poses or the views.
+  SceneOptions options;
+  options.cell = "small";
+  options.num_cameras = 4;
+  options.num_poses = 20;
+  options.seed = 21;
+  options.pose_noise_mm = 0.3;
+  options.pose_noise_deg = 0.03;
+  SyntheticScene scene = MakeScene(options, std::make_shared<const CheckerboardTarget>(7, 4, 0.04));
+  std::mt19937_64 rng(148);
+  AddProjectedObservations(&scene, 0.2, &rng);
+  CalibrationOptions park;
+  park.method = Method::kPark;
+  const CalibrationResult result = Calibrate(scene.dataset, park);
+  int failed = 0;
+  for (const CameraResult& camera : result.cameras) {
+    REQUIRE(camera.closed_form);
+    REQUIRE(camera.closed_form->method == "tsai");
+    if (camera.closed_form->displacement_px < 100) continue;  // Tsai did not fail on this one
+    ++failed;
+    const std::string name = "camera '" + camera.name + "'";
+    const auto warning = std::find_if(result.warnings.begin(), result.warnings.end(), [&](const std::string& w) {
+      return w.rfind(name + ": the result and Tsai's", 0) == 0;
+    });
+    REQUIRE(warning != result.warnings.end());
+    INFO(*warning);
+    CHECK(warning->find("Tsai's closed form failed on these views: ViSP's agrees with the result") !=
+          std::string::npos);
+    CHECK(warning->find("robot poses and views") == std::string::npos);
+  }
+  CHECK(failed > 0);
+  // The other way round, a Tsai result, is the one that failed: the warning says so.
+  CalibrationOptions tsai;
+  tsai.method = Method::kTsai;
+  const CalibrationResult tsai_result = Calibrate(scene.dataset, tsai);
+  int named = 0;
+  for (const std::string& w : tsai_result.warnings) {
+    UNSCOPED_INFO(w);
+    named += w.find("Tsai's closed form (the result) failed on these views, not the robot") != std::string::npos;
+  }
+  CHECK(named == failed);
+}

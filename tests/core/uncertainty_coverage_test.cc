@@ -27,7 +27,10 @@ TEST_CASE("The result's sigma covers the true error as a sigma should", "[uncert
         options.num_poses = 20;
         options.pose_noise_mm = robot_mm;
         options.pose_noise_deg = robot_deg;
-        const SigmaCoverage c = MeasureSigmaCoverage(options, noise_px, 6, 1001);
+        // The scenes give the true intrinsics: σ of the solve alone.
+        CalibrationOptions exact_intrinsics;
+        exact_intrinsics.intrinsics_sigma = GivenIntrinsicsSigma{0.0, 0.0};
+        const SigmaCoverage c = MeasureSigmaCoverage(options, noise_px, 6, 1001, exact_intrinsics);
         for (const auto& failure : c.failures) INFO(failure);
         CHECK(c.failures.empty());
         cameras += c.cameras;
@@ -110,11 +113,14 @@ TEST_CASE(
       render.noise_sigma = 2;
       render.every_view = false;  // the views without the target add nothing here
       DetectSimulated(&scene, render);
-      const CalibrationResult result = Calibrate(scene.dataset, CalibrationOptions{});
+      // The true intrinsics are given: σ of the solve alone.
+      CalibrationOptions exact_intrinsics;
+      exact_intrinsics.intrinsics_sigma = GivenIntrinsicsSigma{0.0, 0.0};
+      const CalibrationResult result = Calibrate(scene.dataset, exact_intrinsics);
       INFO(cell << " seed " << seed);
       REQUIRE(result.solver.robot_sigma_mm > 0);  // modelled
       AddToCoverage(result, scene.truth, &settled);
-      CalibrationOptions given;
+      CalibrationOptions given = exact_intrinsics;
       given.robot_sigma_mm = result.solver.robot_sigma_mm;
       given.robot_sigma_deg = result.solver.robot_sigma_deg;
       AddToCoverage(Calibrate(scene.dataset, given), scene.truth, &prior);

@@ -29,6 +29,7 @@ CalibrationResult SampleResult(Setup setup) {
     for (int j = 0; j < 6; ++j) sigma.covariance(i, j) = i == j ? 0.01 * (i + 1) : 0.001 * (i + j);
   sigma.position_mm = 0.245;
   sigma.rotation_deg = 0.0057;
+  sigma.from_given_intrinsics = 0.5 * sigma.covariance;
   a.sigma = sigma;
   IntrinsicsResult intrinsics;
   std::string why;
@@ -103,6 +104,7 @@ TEST_CASE("Result files round trip exactly, both setups", "[result]") {
     // Uncertainty and refined intrinsics, in the dataset's form.
     REQUIRE(back.cameras[0].sigma);
     CHECK(back.cameras[0].sigma->covariance == r.cameras[0].sigma->covariance);
+    CHECK(back.cameras[0].sigma->from_given_intrinsics == r.cameras[0].sigma->from_given_intrinsics);
     CHECK(back.cameras[0].sigma->position_mm == 0.245);
     REQUIRE(back.target_sigma);
     CHECK(back.target_sigma->rotation_deg == 0.0057);
@@ -202,6 +204,7 @@ TEST_CASE("Result files keep the diagnostics, the options and where they came fr
   r.metrics.axzb_camera_translation_mm = 0.75;
   r.options.cross_terms = false;
   r.options.cauchy_scale_px = 2.5;
+  r.options.intrinsics_sigma = GivenIntrinsicsSigma{0.5, 2.0};
   r.options.warn.min_views_per_camera = 6;
   r.handeye_version = "1.0.0";
   r.input = "cell/dataset.json";
@@ -226,6 +229,8 @@ TEST_CASE("Result files keep the diagnostics, the options and where they came fr
   CHECK_FALSE(back.cameras[1].closed_form);  // not calibrated: no diagnostics written
   CHECK_FALSE(back.options.cross_terms);
   CHECK(back.options.cauchy_scale_px == 2.5);
+  CHECK(back.options.intrinsics_sigma.focal_percent == 0.5);
+  CHECK(back.options.intrinsics_sigma.principal_point_px == 2.0);
   CHECK(back.options.warn.min_views_per_camera == 6);
   CHECK(back.options.method == Method::kJoint);
   CHECK(back.handeye_version == "1.0.0");

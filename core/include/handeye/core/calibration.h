@@ -56,6 +56,28 @@ enum IntrinsicsGroup : unsigned {
 /// or `all`; nullopt with the reason in *why.
 std::optional<unsigned> ParseIntrinsicsGroups(const std::string& list, std::string* why);
 
+/// How far off the given intrinsics may be (1σ): inputs of the calibration
+/// that are uncertain themselves. The solve holds the given values (unless
+/// refined); every camera's σ carries what this uncertainty moves it by.
+/// Defaults are what a factory calibration or an earlier one of the same
+/// camera is commonly good to: the focal length within about 1 %, the
+/// principal point within a few pixels. 0 takes the group as exact.
+struct GivenIntrinsicsSigma {
+  /// Focal length, % of the given fx and fy; one error shared by both
+  /// (fx = f / pixel pitch x, fy = f / pixel pitch y: a calibration errs in f,
+  /// the sensor's aspect ratio is fixed).
+  double focal_percent = 1.0;
+  /// Principal point, pixels per axis (cx and cy independent).
+  double principal_point_px = 3.0;
+};
+/// Parses `--intrinsics-sigma`: a comma-separated list of `focal=P%` and
+/// `principal_point=Npx` (each optional: an item left out keeps its default
+/// from `defaults`), or `0` (both exact). Nullopt with the reason in *why.
+std::optional<GivenIntrinsicsSigma> ParseIntrinsicsSigma(const std::string& text, std::string* why,
+                                                         const GivenIntrinsicsSigma& defaults = {});
+/// The `--intrinsics-sigma` text of `sigma`, e.g. "focal=1%,principal_point=3px".
+std::string IntrinsicsSigmaText(const GivenIntrinsicsSigma& sigma);
+
 /// When a calibration deserves a warning (Calibrate() adds them to the
 /// result's `warnings`; the report shows them). 0 switches a check off.
 struct QualityThresholds {
@@ -132,6 +154,9 @@ struct CalibrationOptions {
   /// of the joint solve, started from the given values (joint method only).
   /// Cameras without intrinsics have all of them estimated whatever this says.
   unsigned refine_intrinsics = kNoIntrinsics;
+  /// Uncertainty of the given intrinsics that are not refined, carried into
+  /// every calibrated camera's σ (every method; SPEC §6).
+  GivenIntrinsicsSigma intrinsics_sigma;
   /// Cameras held at these poses (name → T_cam: T_base_cam or T_ee_cam), e.g.
   /// those a `handeye check` found unmoved: only the others are solved, with
   /// the target transform (joint method only).
@@ -174,8 +199,10 @@ struct ViewResult {
 
 /// How well a pose is known (1σ), from the covariance of the solution scaled
 /// by the residuals actually seen; with the robot's error modelled, under the
-/// error its solved poses show; for a camera whose given intrinsics the check
-/// finds off, with the shift they cause added (see the warning).
+/// error its solved poses show; with what the given intrinsics' own
+/// uncertainty moves it by (CalibrationOptions::intrinsics_sigma); for a
+/// camera whose given intrinsics the check finds off, with the shift they
+/// cause added too (see the warning).
 struct PoseUncertainty {
   /// sqrt of the trace of the position's 3×3 covariance, mm: the RMS of the
   /// position error over the three axes together.
@@ -185,6 +212,11 @@ struct PoseUncertainty {
   double rotation_deg = 0;
   /// Covariance of (x, y, z in mm; rx, ry, rz in deg), in the parent frame.
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  /// The part of `covariance` the given intrinsics' own uncertainty adds
+  /// (CalibrationOptions::intrinsics_sigma): an error a camera keeps as long
+  /// as its intrinsics are the same, so `check` leaves it out (the new views
+  /// carry it too).
+  Eigen::Matrix<double, 6, 6> from_given_intrinsics = Eigen::Matrix<double, 6, 6>::Zero();
 };
 
 /// A camera's intrinsics as the joint solve refined (or estimated) them.
@@ -254,7 +286,11 @@ struct CameraResult {
   std::optional<ClosedFormComparison> closed_form;
   /// With intrinsics refinement (or a camera without intrinsics): the result.
   std::optional<IntrinsicsResult> intrinsics;
-  /// 1σ of T_cam (joint method; absent when the Jacobian is rank deficient).
+  /// 1σ of T_cam, every method (absent when the Jacobian is rank deficient):
+  /// the reprojection solve's covariance, with what the given intrinsics'
+  /// uncertainty (CalibrationOptions::intrinsics_sigma) moves the camera by;
+  /// for a closed form, that of the per-camera reprojection solve from the
+  /// same views plus the closed form's distance from it.
   std::optional<PoseUncertainty> sigma;
   /// With CalibrationOptions::cross_validate: leave-one-pose-out figures.
   struct CrossValidation {

@@ -1,0 +1,104 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "consider_covariance.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
+#include <set>
+
+namespace handeye::internal {
+
+ConsiderCovariance::ConsiderCovariance(std::vector<Coordinates> consider, Eigen::MatrixXd sigma,
+                                       Eigen::MatrixXd prior_information)
+    : consider_(std::move(consider)), sigma_(std::move(sigma)), prior_information_(std::move(prior_information)) {
+  for (const Coordinates& c : consider_) num_consider_ += static_cast<int>(c.tangent.size());
+}
+
+bool ConsiderCovariance::Compute(const std::vector<std::pair<const double*, const double*>>& pairs,
+                                 ceres::Problem* problem, int threads) {
+  problem_ = problem;
+  // Ceres wants each unordered pair once.
+  std::set<std::pair<const double*, const double*>> wanted;
+  auto want = [&](const double* a, const double* b) { wanted.insert(std::minmax(a, b)); };
+  std::set<const double*> blocks;
+  for (const auto& [a, b] : pairs) {
+    want(a, b);
+    blocks.insert(a);
+    blocks.insert(b);
+  }
+  for (const Coordinates& c : consider_) {
+    for (const double* block : blocks) want(block, c.block);
+    for (const Coordinates& d : consider_) want(c.block, d.block);
+  }
+  covariance_ = std::make_unique<BlockCovariance>(
+      problem, BlockCovariance::Pairs(wanted.begin(), wanted.end()), ceres::SPARSE_QR, threads);
+  if (!covariance_->ok()) return false;
+  if (num_consider_ == 0) return true;
+  Eigen::MatrixXd H_cc(num_consider_, num_consider_);
+  int row = 0;
+  for (const Coordinates& c : consider_) {
+    const Eigen::MatrixXd rows = AgainstConsider(c.block);
+    for (int i : c.tangent) H_cc.row(row++) = rows.row(i);
+  }
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(H_cc);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all()) return false;
+  inverse_cc_ = ldlt.solve(Eigen::MatrixXd::Identity(num_consider_, num_consider_));
+  // g_c: the cost's gradient in the consider blocks' tangent spaces.
+  ceres::Problem::EvaluateOptions evaluate;
+  for (const Coordinates& c : consider_) evaluate.parameter_blocks.push_back(const_cast<double*>(c.block));
+  std::vector<double> gradient;
+  double cost = 0;
+  if (!problem->Evaluate(evaluate, &cost, nullptr, &gradient, nullptr)) return false;
+  gradient_.resize(num_consider_);
+  int at = 0, offset = 0;
+  for (const Coordinates& c : consider_) {
+    for (int i : c.tangent) gradient_[at++] = gradient[offset + i];
+    offset += problem->ParameterBlockTangentSize(c.block);
+  }
+  return true;
+}
+
+Eigen::MatrixXd ConsiderCovariance::Posterior(double variance_factor) const {
+  // (Σ⁻¹ + S/σ²)⁻¹ = (I + Σ S/σ²)⁻¹ Σ: no inverse of Σ (the focal length's is
+  // singular: one error for fx and fy) nor of S (views may not inform c).
+  const Eigen::MatrixXd S = inverse_cc_ - prior_information_;
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(num_consider_, num_consider_);
+  const Eigen::MatrixXd posterior = (I + sigma_ * S / variance_factor).lu().solve(sigma_);
+  return 0.5 * (posterior + posterior.transpose());
+}
+
+Eigen::MatrixXd ConsiderCovariance::Raw(const double* a, const double* b) const {
+  return covariance_->Tangent(a, b);
+}
+
+Eigen::MatrixXd ConsiderCovariance::AgainstConsider(const double* a) const {
+  Eigen::MatrixXd out(problem_->ParameterBlockTangentSize(a), num_consider_);
+  int column = 0;
+  for (const Coordinates& c : consider_) {
+    const Eigen::MatrixXd block = Raw(a, c.block);
+    for (int i : c.tangent) out.col(column++) = block.col(i);
+  }
+  return out;
+}
+
+Eigen::MatrixXd ConsiderCovariance::Block(const double* a, const double* b) const {
+  if (num_consider_ == 0) return Raw(a, b);
+  return Raw(a, b) - AgainstConsider(a) * inverse_cc_ * AgainstConsider(b).transpose();
+}
+
+Eigen::MatrixXd ConsiderCovariance::Consider(const double* a, double variance_factor) const {
+  const int n = problem_->ParameterBlockTangentSize(a);
+  if (num_consider_ == 0) return Eigen::MatrixXd::Zero(n, n);
+  const Eigen::MatrixXd G = -AgainstConsider(a) * inverse_cc_;
+  return G * Posterior(variance_factor) * G.transpose();
+}
+
+Eigen::VectorXd ConsiderCovariance::Shift(const double* a, double variance_factor) const {
+  const int n = problem_->ParameterBlockTangentSize(a);
+  if (num_consider_ == 0) return Eigen::VectorXd::Zero(n);
+  const Eigen::MatrixXd G = -AgainstConsider(a) * inverse_cc_;
+  const Eigen::VectorXd delta_c = -Posterior(variance_factor) * gradient_ / variance_factor;
+  return G * delta_c;
+}
+
+}  // namespace handeye::internal
