@@ -155,7 +155,7 @@ std::vector<unsigned> UnrefinedIntrinsics(const std::vector<std::vector<int>>& f
 /// T_holder_target over all its views), made robust (RobustSolve); `est`
 /// ends at the solution.
 internal::Refinement SolvePerCamera(Problem* problem, const CalibrationOptions& options, Estimate* est,
-                                    std::vector<std::string>* warnings) {
+                                    std::vector<Warning>* warnings) {
   const double first_scale =
       std::max(1.0, 3.0 * internal::ResidualSigmaPx(*problem, est->T_cam_mount, est->T_holder_target));
   const internal::Refinement refined = internal::RobustSolve(
@@ -215,7 +215,7 @@ CameraCovariance ClosedFormCovariance(const Problem& problem, const Estimate& cl
                                       const CalibrationOptions& options) {
   Problem copy = problem;  // the solve's view exclusions are not the closed form's
   Estimate solved = closed_form;
-  std::vector<std::string> ignored;
+  std::vector<Warning> ignored;
   CameraCovariance out;
   try {
     const internal::Refinement refined = SolvePerCamera(&copy, options, &solved, &ignored);

@@ -207,7 +207,7 @@ std::vector<Warning> QualityWarnings(const Problem& problem, const CalibrationOp
                          Fixed(warn.max_closed_form_disagreement_px, 0) + " px); " +
                          (cause.empty() ? "the closed forms disagree among themselves too: check this camera's "
                                           "robot poses and views"
-                                        : cause));
+                                        : cause)));
     }
   }
   return warnings;

@@ -158,14 +158,16 @@ TEST_CASE("A closed-form disagreement names the closed form that failed, not the
     if (camera.closed_form->displacement_px < 100) continue;  // Tsai did not fail on this one
     ++failed;
     const std::string name = "camera '" + camera.name + "'";
-    const auto warning = std::find_if(result.warnings.begin(), result.warnings.end(), [&](const std::string& w) {
-      return w.rfind(name + ": the result and Tsai's", 0) == 0;
+    const auto warning = std::find_if(result.warnings.begin(), result.warnings.end(), [&](const Warning& w) {
+      return w.text.rfind(name + ": the result and Tsai's", 0) == 0;
     });
     REQUIRE(warning != result.warnings.end());
-    INFO(*warning);
-    CHECK(warning->find("Tsai's closed form failed on these views: ViSP's agrees with the result") !=
+    INFO(warning->text);
+    CHECK(warning->kind == WarningKind::kClosedFormDisagrees);
+    CHECK(warning->camera == camera.name);
+    CHECK(warning->text.find("Tsai's closed form failed on these views: ViSP's agrees with the result") !=
           std::string::npos);
-    CHECK(warning->find("robot poses and views") == std::string::npos);
+    CHECK(warning->text.find("robot poses and views") == std::string::npos);
   }
   CHECK(failed > 0);
   // The other way round, a Tsai result, is the one that failed: the warning says so.
@@ -173,9 +175,9 @@ TEST_CASE("A closed-form disagreement names the closed form that failed, not the
   tsai.method = Method::kTsai;
   const CalibrationResult tsai_result = Calibrate(scene.dataset, tsai);
   int named = 0;
-  for (const std::string& w : tsai_result.warnings) {
-    UNSCOPED_INFO(w);
-    named += w.find("Tsai's closed form (the result) failed on these views, not the robot") != std::string::npos;
+  for (const Warning& w : tsai_result.warnings) {
+    UNSCOPED_INFO(w.text);
+    named += w.text.find("Tsai's closed form (the result) failed on these views, not the robot") != std::string::npos;
   }
   CHECK(named == failed);
 }
