@@ -126,12 +126,8 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
       // The difference of two estimates: the new one and the calibration's
       // own, less what the given intrinsics' uncertainty adds to it: the new
       // views go through the same intrinsics, and their error moves both alike.
-      double calibrated_mm = 0.0, calibrated_deg = 0.0;
-      if (cam.sigma) {
-        const Eigen::Matrix<double, 6, 6> own = cam.sigma->covariance - cam.sigma->from_given_intrinsics;
-        calibrated_mm = std::sqrt(std::max(0.0, own.topLeftCorner<3, 3>().trace()));
-        calibrated_deg = std::sqrt(std::max(0.0, own.bottomRightCorner<3, 3>().trace()));
-      }
+      const double calibrated_mm = cam.sigma ? cam.sigma->OwnPositionMm() : 0.0;
+      const double calibrated_deg = cam.sigma ? cam.sigma->OwnRotationDeg() : 0.0;
       drift.sigma_mm = std::hypot(u.position_mm, calibrated_mm);
       drift.sigma_deg = std::hypot(u.rotation_deg, calibrated_deg);
     }

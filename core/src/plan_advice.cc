@@ -64,8 +64,11 @@ PlanCell PlanCellOfResult(const Dataset& dataset, const CalibrationResult& resul
     PlanCamera camera;
     camera.camera = solved.intrinsics ? solved.intrinsics->camera : dataset.cameras[k];
     camera.T_mount_cam = solved.T_cam;
-    camera.position_sigma_m = std::max(kMinPositionM, solved.sigma ? solved.sigma->position_mm / 1000.0 : 0.0);
-    camera.rotation_sigma_rad = std::max(kMinRotationRad, solved.sigma ? solved.sigma->rotation_deg * kDeg : 0.0);
+    // The views' own σ: what the given intrinsics' uncertainty adds moves
+    // the camera together with where its image puts the target, so it
+    // widens no visibility margin.
+    camera.position_sigma_m = std::max(kMinPositionM, solved.sigma ? solved.sigma->OwnPositionMm() / 1000.0 : 0.0);
+    camera.rotation_sigma_rad = std::max(kMinRotationRad, solved.sigma ? solved.sigma->OwnRotationDeg() * kDeg : 0.0);
     camera.refine_intrinsics = solved.intrinsics.has_value();
     cell.cameras.push_back(camera);
     sum_squares += solved.rms_px * solved.rms_px;

@@ -111,4 +111,12 @@ PositionCovariance ComputePositionCovariance(const Dataset& dataset, const Calib
   return out;
 }
 
+double PoseUncertainty::OwnPositionMm() const {
+  return std::sqrt(std::max(0.0, (covariance - from_given_intrinsics).topLeftCorner<3, 3>().trace()));
+}
+
+double PoseUncertainty::OwnRotationDeg() const {
+  return std::sqrt(std::max(0.0, (covariance - from_given_intrinsics).bottomRightCorner<3, 3>().trace()));
+}
+
 }  // namespace handeye

@@ -217,6 +217,10 @@ struct PoseUncertainty {
   /// as its intrinsics are the same, so `check` leaves it out (the new views
   /// carry it too).
   Eigen::Matrix<double, 6, 6> from_given_intrinsics = Eigen::Matrix<double, 6, 6>::Zero();
+  /// position_mm and rotation_deg without `from_given_intrinsics`: how far
+  /// the views themselves leave the camera free.
+  double OwnPositionMm() const;
+  double OwnRotationDeg() const;
 };
 
 /// A camera's intrinsics as the joint solve refined (or estimated) them.
