@@ -12,6 +12,8 @@
 #include <chrono>
 #include <limits>
 #include <memory>
+#include <stdexcept>
+#include <tuple>
 
 #include "calibration_internal.h"
 #include "consider_covariance.h"
@@ -23,17 +25,34 @@
 namespace handeye::internal {
 namespace {
 
-/// Pose blocks that Ceres optimises in place, with stable addresses.
-class PoseBlocks {
+constexpr size_t kPoseParams = std::tuple_size<PoseParams>::value;
+
+/// The parameter blocks Ceres optimises in place, in one buffer, in the order
+/// they are added. Where it is given no order, Ceres orders blocks by their
+/// address (within a group of the linear solver's ordering, and the
+/// covariance's columns); blocks allocated one by one lie wherever the heap
+/// puts them, so the same solve ran with other rounding in another process
+/// (the Python module against the CLI). In one buffer, every process orders,
+/// and rounds, alike.
+class ParameterBlocks {
  public:
-  double* Add(const Eigen::Isometry3d& T) {
-    blocks_.push_back(std::make_unique<PoseParams>(ToPoseParams(T)));
-    return blocks_.back()->data();
+  /// Room for `capacity` doubles: adding more would move the blocks Ceres holds.
+  explicit ParameterBlocks(size_t capacity) { storage_.reserve(capacity); }
+  double* AddPose(const Eigen::Isometry3d& T) {
+    const PoseParams params = ToPoseParams(T);
+    return Add(params.data(), params.size());
+  }
+  double* Add(const double* values, size_t size) {
+    if (storage_.size() + size > storage_.capacity())
+      throw std::logic_error("ParameterBlocks: more blocks than the room reserved for them");
+    double* block = storage_.data() + storage_.size();
+    storage_.insert(storage_.end(), values, values + size);
+    return block;
   }
   static Eigen::Isometry3d Get(const double* block) { return FromPoseParams(block); }
 
  private:
-  std::vector<std::unique_ptr<PoseParams>> blocks_;
+  std::vector<double> storage_;
 };
 
 /// Stops the solve when no pose block moves by more than the tolerances in an
@@ -289,15 +308,18 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
   ceres::Problem::Options problem_options;
   problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
   ceres::Problem ceres_problem(problem_options);
-  PoseBlocks blocks;
+  // T_holder_target, the cameras, the robot poses, the pairs (k, t) and the intrinsics.
+  const size_t n_cameras = dataset.cameras.size();
+  ParameterBlocks blocks(kPoseParams * (1 + n_cameras + dataset.poses.size() + n_cameras * n_cameras) +
+                         OpenCVCameraModel::kNumParams * n_cameras);
 
-  double* T_holder_target = blocks.Add(init.T_holder_target);
+  double* T_holder_target = blocks.AddPose(init.T_holder_target);
   ceres_problem.AddParameterBlock(T_holder_target, 7);
   SetPoseManifold(&ceres_problem, T_holder_target);
   std::vector<double*> T_cam_mount(dataset.cameras.size(), nullptr);
   for (size_t k = 0; k < T_cam_mount.size(); ++k) {
     if (!init.T_cam_mount[k] || problem.camera_views[k].empty()) continue;
-    T_cam_mount[k] = blocks.Add(*init.T_cam_mount[k]);
+    T_cam_mount[k] = blocks.AddPose(*init.T_cam_mount[k]);
     ceres_problem.AddParameterBlock(T_cam_mount[k], 7);
     SetPoseManifold(&ceres_problem, T_cam_mount[k]);
     if (k < init.fixed_T_cam_mount.size() && init.fixed_T_cam_mount[k])
@@ -323,7 +345,7 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
     std::vector<int> uncertain_tangent;
     const std::vector<int> unknowns = IntrinsicsUnknowns(free, uncertain, &uncertain_tangent);
     if (unknowns.empty()) continue;
-    K_block[k] = AddIntrinsicsBlock(&ceres_problem, K[k].data(), unknowns);
+    K_block[k] = AddIntrinsicsBlock(&ceres_problem, blocks.Add(K[k].data(), K[k].size()), unknowns);
     if (!free.empty())
       ceres_problem.AddResidualBlock(IntrinsicsPrior(init.given_cameras[k], free, init.pixel_sigma_px), nullptr,
                                      K_block[k]);
@@ -342,7 +364,7 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
   std::vector<RobotPoseBlock> robot_poses;
   auto robot_pose = [&](int j) {
     if (!T_mount_holder[j]) {
-      T_mount_holder[j] = blocks.Add(j < static_cast<int>(init.T_mount_holder.size()) && init.T_mount_holder[j]
+      T_mount_holder[j] = blocks.AddPose(j < static_cast<int>(init.T_mount_holder.size()) && init.T_mount_holder[j]
                                          ? *init.T_mount_holder[j]
                                          : problem.T_mount_holder[j]);
       ceres_problem.AddParameterBlock(T_mount_holder[j], 7);
@@ -409,7 +431,7 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
           double*& T_camk_mount_via_t = pair_blocks[{k, t}];
           if (!T_camk_mount_via_t) {
             // T_camk_camt starts at T_camk_mount · T_mount_camt, so this block at T_camk_mount.
-            T_camk_mount_via_t = blocks.Add(*init.T_cam_mount[k]);
+            T_camk_mount_via_t = blocks.AddPose(*init.T_cam_mount[k]);
             ceres_problem.AddParameterBlock(T_camk_mount_via_t, 7);
             SetPoseManifold(&ceres_problem, T_camk_mount_via_t);
           }
@@ -446,16 +468,18 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
   solver.initial_trust_region_radius = 1e6;
   Refinement out;
   if (step == JointStep::kSolve) out.summary = Solve(solver, options, &ceres_problem);
-  out.T_holder_target.push_back(PoseBlocks::Get(T_holder_target));
+  out.T_holder_target.push_back(ParameterBlocks::Get(T_holder_target));
   out.T_cam_mount.resize(T_cam_mount.size());
   for (size_t k = 0; k < T_cam_mount.size(); ++k)
-    if (T_cam_mount[k]) out.T_cam_mount[k] = PoseBlocks::Get(T_cam_mount[k]);
+    if (T_cam_mount[k]) out.T_cam_mount[k] = ParameterBlocks::Get(T_cam_mount[k]);
   for (const auto& [pair, T_camk_mount_via_t] : pair_blocks)
-    out.pairs[pair] = PoseBlocks::Get(T_camk_mount_via_t) * out.T_cam_mount[pair.second]->inverse();
+    out.pairs[pair] = ParameterBlocks::Get(T_camk_mount_via_t) * out.T_cam_mount[pair.second]->inverse();
+  for (size_t k = 0; k < K.size(); ++k)
+    if (K_block[k]) std::copy(K_block[k], K_block[k] + K[k].size(), K[k].begin());
   out.intrinsics = K;
   out.T_mount_holder.resize(T_mount_holder.size());
   for (size_t j = 0; j < T_mount_holder.size(); ++j)
-    if (T_mount_holder[j]) out.T_mount_holder[j] = PoseBlocks::Get(T_mount_holder[j]);
+    if (T_mount_holder[j]) out.T_mount_holder[j] = ParameterBlocks::Get(T_mount_holder[j]);
   if (step == JointStep::kCovariance) {
     ConsiderCovariance covariance(uncertain_coordinates, BlockDiagonal(uncertain_covariances),
                                   BlockDiagonal(uncertain_prior_information));
@@ -491,9 +515,9 @@ Refinement RefinePerCamera(const Problem& problem,
     ceres::Problem::Options problem_options;
     problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
     ceres::Problem ceres_problem(problem_options);
-    PoseBlocks blocks;
-    double* T_cam_mount = blocks.Add(*T_cam_mount_start[k]);
-    double* T_holder_target = blocks.Add(T_holder_target_start[k]);
+    ParameterBlocks blocks(2 * kPoseParams + OpenCVCameraModel::kNumParams);
+    double* T_cam_mount = blocks.AddPose(*T_cam_mount_start[k]);
+    double* T_holder_target = blocks.AddPose(T_holder_target_start[k]);
     for (double* b : {T_cam_mount, T_holder_target}) {
       ceres_problem.AddParameterBlock(b, 7);
       SetPoseManifold(&ceres_problem, b);
@@ -502,10 +526,11 @@ Refinement RefinePerCamera(const Problem& problem,
     const UncertainIntrinsics uncertain = step == JointStep::kCovariance
                                               ? UncertainGivenIntrinsics(dataset.cameras[k], {}, options.intrinsics_sigma)
                                               : UncertainIntrinsics{};
-    std::array<double, OpenCVCameraModel::kNumParams> K = dataset.cameras[k].params;
+    const std::array<double, OpenCVCameraModel::kNumParams>& K = dataset.cameras[k].params;
     std::vector<int> uncertain_tangent;
     const std::vector<int> unknowns = IntrinsicsUnknowns({}, uncertain, &uncertain_tangent);
-    double* K_block = unknowns.empty() ? nullptr : AddIntrinsicsBlock(&ceres_problem, K.data(), unknowns);
+    double* K_block =
+        unknowns.empty() ? nullptr : AddIntrinsicsBlock(&ceres_problem, blocks.Add(K.data(), K.size()), unknowns);
     if (K_block)
       ceres_problem.AddResidualBlock(UncertainIntrinsicsPrior(dataset.cameras[k], uncertain, 1.0), nullptr, K_block);
     std::vector<ceres::ResidualBlockId> views;
@@ -518,9 +543,9 @@ Refinement RefinePerCamera(const Problem& problem,
                                         options.cauchy_scale_px, K_block != nullptr),
           nullptr, view_blocks));
     }
-    out.T_holder_target[k] = PoseBlocks::Get(T_holder_target);
+    out.T_holder_target[k] = ParameterBlocks::Get(T_holder_target);
     if (step == JointStep::kCovariance) {
-      out.T_cam_mount[k] = PoseBlocks::Get(T_cam_mount);
+      out.T_cam_mount[k] = ParameterBlocks::Get(T_cam_mount);
       ConsiderCovariance covariance(
           K_block ? std::vector<ConsiderCovariance::Coordinates>{{K_block, uncertain_tangent}}
                   : std::vector<ConsiderCovariance::Coordinates>{},
@@ -539,8 +564,8 @@ Refinement RefinePerCamera(const Problem& problem,
     out.summary.iterations += s.iterations;
     out.summary.termination = s.termination;
     out.summary.converged = out.summary.converged && s.converged;
-    out.T_cam_mount[k] = PoseBlocks::Get(T_cam_mount);
-    out.T_holder_target[k] = PoseBlocks::Get(T_holder_target);
+    out.T_cam_mount[k] = ParameterBlocks::Get(T_cam_mount);
+    out.T_holder_target[k] = ParameterBlocks::Get(T_holder_target);
   }
   return out;
 }

@@ -13,7 +13,7 @@ from conftest import assert_same_result, run_cli
 
 
 def test_calibrate_from_the_observations_file_writes_the_clis_result(cell, cli_result):
-    result = handeye.calibrate(cell["observations"], threads=2)
+    result = handeye.calibrate(cell["observations"], threads=1)
     assert_same_result(result.to_json(), cli_result, input_path=cell["observations"])
 
 
@@ -22,13 +22,13 @@ def test_calibrate_from_arrays_gives_the_same_numbers_as_from_the_file(cell, cli
     cameras = {name: loaded.camera(name) for name in loaded.cameras}
     views = [(camera, loaded.pose_ids.index(pose), ids, pixels) for camera, pose, ids, pixels in loaded.views]
     built = handeye.dataset_from_arrays(loaded.target, cameras, loaded.T_base_ee, views, pose_ids=loaded.pose_ids)
-    result = handeye.calibrate(built, threads=2)
+    result = handeye.calibrate(built, threads=1)
     assert_same_result(result.to_json(), cli_result, input_path="")  # built in memory: no input file
 
 
 def test_calibrate_from_images_detects_first_and_reports_progress(cell, cli_result):
     calls = []
-    result = handeye.calibrate(cell["dataset"], threads=2, progress=lambda done, total: calls.append((done, total)))
+    result = handeye.calibrate(cell["dataset"], threads=1, progress=lambda done, total: calls.append((done, total)))
     total = calls[-1][1]
     assert total == 30 and calls[-1] == (total, total) and len(calls) == total
     assert_same_result(result.to_json(), cli_result, input_path=cell["dataset"])
@@ -36,8 +36,8 @@ def test_calibrate_from_images_detects_first_and_reports_progress(cell, cli_resu
 
 def test_a_closed_form_method_matches_the_cli_method_of_that_name(cell):
     path = cell["dir"] / "cli_park.json"
-    run_cli("calibrate", cell["observations"], "-o", path, "--threads", 2, "--method", "park")
-    result = handeye.calibrate(cell["observations"], threads=2, method="park")
+    run_cli("calibrate", cell["observations"], "-o", path, "--threads", 1, "--method", "park")
+    result = handeye.calibrate(cell["observations"], threads=1, method="park")
     assert result.method == "park"
     assert_same_result(result.to_json(), path.read_text(), input_path=cell["observations"])
 
@@ -109,12 +109,15 @@ def test_result_differences_sees_what_differs_beyond_the_tolerance(cli_result):
     document = json.loads(cli_result)
     assert handeye.result_differences(cli_result, json.dumps(document)) == ([], ("", 0.0))
     document["cameras"]["cam1"]["rms_px"] *= 1 + 1e-12  # the last bits: agreed
-    document["metrics"]["rms_px"] += 1e-6
+    document["metrics"]["rms_px"] += 1e-3
     document["cameras"]["cam2"]["views"] += 1
     document["warnings"].append("one more")
     del document["cameras"]["cam0"]["sigma"]["position_mm"]
+    covariance = document["cameras"]["cam1"]["sigma"]["covariance"]
+    covariance[0][0] *= 1 + 1e-7  # a covariance's rounding (see result_differences): agreed
+    covariance[1][1] *= 1 + 1e-5
     differences, largest = handeye.result_differences(cli_result, json.dumps(document))
     assert [path for path, _, _ in differences] == [
-        "/cameras/cam0/sigma/position_mm", "/cameras/cam2/views", "/metrics/rms_px",
+        "/cameras/cam0/sigma/position_mm", "/cameras/cam1/sigma/covariance/1/1", "/cameras/cam2/views", "/metrics/rms_px",
         f"/warnings/{len(document['warnings']) - 1}"]
     assert largest[0] == "/metrics/rms_px"
