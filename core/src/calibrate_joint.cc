@@ -1,0 +1,245 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// The joint strategy of Calibrate(): the paper's one problem over every
+// camera (shared T_holder_target, c_rpj + c_cross), started at the closed
+// forms, made robust, with the robot's pose error and the intrinsics as the
+// options ask, then its covariance.
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "calibrate_stages.h"
+#include "handeye/core/error.h"
+#include "setup_mistakes.h"
+
+namespace handeye::internal {
+namespace {
+
+/// Held cameras (CalibrationOptions::fixed_cameras) at their given poses, and
+/// the target transform and the other cameras from their views, so that all
+/// start consistent.
+void HoldFixedCameras(Calibration* c, Initialisation* init) {
+  const size_t num_cameras = c->dataset.cameras.size();
+  init->fixed_T_cam_mount.assign(num_cameras, false);
+  for (const auto& [name, T_cam] : c->options.fixed_cameras) {
+    const int k = c->dataset.CameraIndex(name);
+    if (!init->T_cam_mount[k]) continue;  // no views: nothing to hold
+    init->T_cam_mount[k] = T_cam.inverse();
+    init->fixed_T_cam_mount[k] = true;
+  }
+  if (c->options.fixed_cameras.empty()) return;
+  std::vector<Eigen::Isometry3d> T_holder_target_estimates;
+  for (size_t k = 0; k < num_cameras; ++k)
+    if (init->fixed_T_cam_mount[k])
+      if (const auto T_holder_target =
+              TargetGivenCamera(c->problem, static_cast<int>(k), *init->T_cam_mount[k]))
+        T_holder_target_estimates.push_back(*T_holder_target);
+  if (T_holder_target_estimates.empty()) return;
+  init->T_holder_target = MeanTransform(T_holder_target_estimates);
+  for (size_t k = 0; k < num_cameras; ++k)
+    if (init->T_cam_mount[k] && !init->fixed_T_cam_mount[k])
+      if (const auto T_cam_mount =
+              CameraGivenTarget(c->problem, static_cast<int>(k), init->T_holder_target))
+        init->T_cam_mount[k] = *T_cam_mount;
+  c->result.notes.push_back(
+      std::to_string(c->options.fixed_cameras.size()) +
+      " camera(s) held at their given poses; the others and the target transform solved");
+}
+
+/// The start: the closed forms, held cameras, and the intrinsics the solve
+/// refines (all of them where they were estimated from the views).
+Initialisation InitialiseJointStage(Calibration* c) {
+  Initialisation init = InitialiseJoint(c->problem);
+  c->result.notes.insert(c->result.notes.end(), init.notes.begin(), init.notes.end());
+  HoldFixedCameras(c, &init);
+  const size_t num_cameras = c->dataset.cameras.size();
+  init.free_intrinsics.resize(num_cameras);
+  for (size_t k = 0; k < num_cameras; ++k) {
+    const unsigned groups = c->estimated[k] ? kAllIntrinsics : c->options.refine_intrinsics;
+    if (groups & kDistortion && c->working.cameras[k].num_distortion == 0)
+      c->working.cameras[k].num_distortion = 5;
+    init.free_intrinsics[k] = FreeIntrinsics(c->working.cameras[k], groups);
+  }
+  c->free_intrinsics = init.free_intrinsics;
+  init.given_cameras = c->start_cameras;
+  init.pixel_sigma_px = DetectionSigmaPx(c->problem);
+  return init;
+}
+
+/// One joint solve (with the intrinsics under their prior), then PnP again
+/// with the refined intrinsics: the robot error estimate compares with it.
+Refinement RefineOnce(Calibration* c, const Initialisation& init, const CalibrationOptions& round,
+                      const std::optional<RobotPrior>& robot) {
+  Refinement r = RefineJoint(c->problem, init, round, robot);
+  bool changed = false;
+  for (size_t k = 0; k < c->working.cameras.size(); ++k) {
+    changed = changed || c->working.cameras[k].params != r.intrinsics[k];
+    c->working.cameras[k].params = r.intrinsics[k];
+  }
+  if (changed) RecomputePnp(&c->problem, c->options.pnp_max_rms_px);
+  return r;
+}
+
+/// The robot's pose error for a round at loss scale `scale`: as given, or
+/// estimated from the last solution (the first round solves with exact poses
+/// first, `*solved_once`). Intrinsics that do not fit raise the chain's
+/// residuals too, and pose blocks would absorb that misfit (METRIC as
+/// published: its principal points are 1–3 px off). Where the views say the
+/// given focal length or principal point is off even with the robot's error
+/// modelled, only a clear excess (2× PnP's) counts as the robot's.
+std::optional<RobotPrior> RobotForRound(Calibration* c, Initialisation* init, double scale,
+                                        bool* solved_once) {
+  const CalibrationOptions& options = c->options;
+  if (options.robot_sigma_mm > 0)
+    return RobotPrior{options.robot_sigma_mm / 1000.0, options.robot_sigma_deg * M_PI / 180.0,
+                      DetectionSigmaPx(c->problem)};
+  if (options.robot_sigma_mm == 0) return std::nullopt;
+  if (!*solved_once) {
+    WarmStart(RefineOnce(c, *init, AtLossScale(options, scale), std::nullopt), init);
+    *solved_once = true;
+  }
+  const size_t num_cameras = c->dataset.cameras.size();
+  const TargetPoses T_holder_target_now(num_cameras, init->T_holder_target);
+  std::optional<RobotPrior> robot =
+      EstimateRobotPrior(c->problem, init->T_cam_mount, T_holder_target_now);
+  if (robot && robot->chain_to_pnp < 2.0 &&
+      !IntrinsicsWarnings(c->problem, init->T_cam_mount, T_holder_target_now, scale,
+                          UnrefinedIntrinsics(init->free_intrinsics, num_cameras), robot)
+           .empty())
+    robot.reset();
+  return robot;
+}
+
+/// The robust rounds (RobustSolve) of the joint solve; `*robot` ends as the
+/// last round's robot model, settled from the solved pose blocks where it was
+/// estimated (the rule that estimated it errs wide on purpose: on rendered
+/// cells it made σ about twice the error).
+Refinement RobustJointRounds(Calibration* c, Initialisation* init,
+                             std::optional<RobotPrior>* robot) {
+  // The first loss scale from the residuals at the closed-form start: a
+  // start that is far off is then solved nearly as least squares, and the
+  // scale narrows once the residuals are known.
+  const double first_scale = std::max(
+      1.0, 3.0 * ResidualSigmaPx(c->problem, init->T_cam_mount,
+                                 TargetPoses(c->dataset.cameras.size(), init->T_holder_target)));
+  bool solved_once = false;
+  const Refinement refined = RobustSolve(
+      &c->problem, c->options, first_scale,
+      [&](double scale) {
+        *robot = RobotForRound(c, init, scale, &solved_once);
+        Refinement r = RefineOnce(c, *init, AtLossScale(c->options, scale), *robot);
+        WarmStart(r, init);  // of the next round
+        return r;
+      },
+      &c->result.warnings);
+  if (*robot && c->options.robot_sigma_mm < 0)
+    SettleRobotSigma(c->problem, *init, refined,
+                     AtLossScale(c->options, refined.summary.cauchy_scale_px), &**robot);
+  if (*robot && c->options.robot_sigma_mm < 0 && c->options.check_setup) CheckRobotSigma(**robot);
+  return refined;
+}
+
+/// The note that says the robot's error was modelled, and its σ in the solver summary.
+void NoteRobotModel(Calibration* c, const RobotPrior& robot) {
+  c->result.solver.robot_sigma_mm = robot.sigma_m * 1000.0;
+  c->result.solver.robot_sigma_deg = robot.sigma_rad * 180.0 / M_PI;
+  std::ostringstream note;
+  note.precision(3);
+  note << "the robot's own pose error is modelled (one pose block per robot pose): σ "
+       << robot.sigma_m * 1000.0 << " mm and " << robot.sigma_rad * 180.0 / M_PI << " deg per axis"
+       << (c->options.robot_sigma_mm > 0 ? " (given)" : " (estimated from the views)")
+       << ", detection σ " << robot.pixel_sigma_px << " px";
+  if (robot.settled_sigma_m > 0)
+    note << "; the solved poses show σ " << robot.settled_sigma_m * 1000.0 << " mm and "
+         << robot.settled_sigma_rad * 180.0 / M_PI << " deg, which the cameras' sigma assumes";
+  c->result.notes.push_back(note.str());
+}
+
+/// The refined intrinsics of each camera, with their σ; those the views
+/// hardly determine are named (and fatal where nothing was given).
+void RefinedIntrinsicsStage(Calibration* c, const Initialisation& init,
+                            const Refinement& covariance) {
+  for (size_t k = 0; k < c->dataset.cameras.size(); ++k) {
+    if (init.free_intrinsics[k].empty() || !c->est.T_cam_mount[k])
+      continue;  // no views: nothing refined
+    const std::string& name = c->dataset.cameras[k].name;
+    IntrinsicsResult intrinsics;
+    intrinsics.camera = c->working.cameras[k];
+    intrinsics.camera.has_intrinsics = true;
+    intrinsics.sigma = covariance.intrinsics_sigma[k];
+    for (int p : init.free_intrinsics[k]) intrinsics.refined.push_back(Camera::ParamName(p));
+    for (int p : UndeterminedIntrinsics(c->start_cameras[k], covariance.intrinsics_sigma[k],
+                                        init.free_intrinsics[k])) {
+      if (c->estimated[k] && p < 4)
+        throw SolveError(
+            "camera '" + name + "' has no intrinsics and the views do not determine its " +
+            Camera::ParamName(p) +
+            "; take views with the target tilted by 20° or more in different directions and "
+            "covering the image, or give the camera's intrinsics in the dataset");
+      intrinsics.undetermined.push_back(Camera::ParamName(p));
+    }
+    if (!intrinsics.undetermined.empty()) {
+      std::string names;
+      for (const auto& param : intrinsics.undetermined)
+        names += (names.empty() ? "" : ", ") + param;
+      c->result.warnings.push_back(
+          CameraWarning(WarningKind::kIntrinsicsUndetermined, name,
+                        "camera '" + name + "': the views hardly determine " + names +
+                            ", which a prior keeps near the " +
+                            (c->estimated[k] ? "estimate from the views alone" : "given values") +
+                            " (1σ: an image corner within 20 px); see intrinsics_sigma"));
+    }
+    c->refined_intrinsics[k] = intrinsics;
+  }
+}
+
+/// Each unordered pair's T_camk_camt (k < t) and the views it shares.
+void CameraPairsStage(Calibration* c, const Refinement& refined) {
+  std::vector<std::set<int>> poses_seen(c->dataset.cameras.size());
+  for (const View& view : c->problem.views)
+    if (view.used) poses_seen[view.camera].insert(view.pose);
+  for (const auto& [pair, T_kt] : refined.pairs) {
+    if (pair.first > pair.second) continue;
+    CameraPairResult p;
+    p.camera_k = c->dataset.cameras[pair.first].name;
+    p.camera_t = c->dataset.cameras[pair.second].name;
+    p.T_camk_camt = T_kt;
+    for (int pose : poses_seen[pair.first])
+      p.shared_views += poses_seen[pair.second].count(pose) ? 1 : 0;
+    c->result.camera_pairs.push_back(p);
+  }
+}
+
+}  // namespace
+
+void SolveJointMethod(Calibration* c) {
+  Initialisation init = InitialiseJointStage(c);
+  std::optional<RobotPrior> robot;
+  const Refinement refined = RobustJointRounds(c, &init, &robot);
+  c->robot_model = robot;
+  if (robot) NoteRobotModel(c, *robot);
+  c->est.T_cam_mount = refined.T_cam_mount;
+  c->est.shared_T_holder_target = refined.T_holder_target[0];
+  // How well the solution is known: the same problem at the solution.
+  const CalibrationOptions final_options = AtLossScale(c->options, refined.summary.cauchy_scale_px);
+  const Refinement covariance =
+      RefineJoint(c->problem, init, final_options, robot, JointStep::kCovariance);
+  if (c->options.cross_validate)
+    CrossValidate(c->problem, init, final_options, robot, &c->camera_validation);
+  for (size_t k = 0; k < c->dataset.cameras.size(); ++k)
+    if (c->est.T_cam_mount[k] && covariance.T_cam_mount_covariance[k])
+      c->camera_covariance.Add(covariance, k);
+  if (covariance.T_holder_target_covariance)
+    c->result.target_sigma =
+        UncertaintyOf(c->est.shared_T_holder_target, *covariance.T_holder_target_covariance, false);
+  RefinedIntrinsicsStage(c, init, covariance);
+  const double robot_mm = c->result.solver.robot_sigma_mm,
+               robot_deg = c->result.solver.robot_sigma_deg;
+  c->result.solver = refined.summary;
+  c->result.solver.robot_sigma_mm = robot_mm;
+  c->result.solver.robot_sigma_deg = robot_deg;
+  CameraPairsStage(c, refined);
+}
+
+}  // namespace handeye::internal
