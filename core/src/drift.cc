@@ -11,6 +11,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "chain_problem.h"
 #include "covariance.h"
 #include "diagnostics_internal.h"
 #include "handeye/core/cost_functions.h"
@@ -25,7 +26,8 @@ bool DriftOptions::Check(std::string* why) const {
     return false;
   };
   if (!(tolerance_mm > 0) || !std::isfinite(tolerance_mm)) return fail("tolerance_mm must be > 0");
-  if (!(tolerance_deg > 0) || !std::isfinite(tolerance_deg)) return fail("tolerance_deg must be > 0");
+  if (!(tolerance_deg > 0) || !std::isfinite(tolerance_deg))
+    return fail("tolerance_deg must be > 0");
   if (min_views < 1) return fail("min_views must be >= 1");
   if (threads < 1) return fail("threads must be >= 1");
   return true;
@@ -49,12 +51,13 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
   if (!options.Check(&why)) throw InputError("", "", "invalid check options: " + why);
   if (input.setup != calibration.setup)
     throw InputError("", "/setup",
-                     std::string("the result's setup, ") + SetupName(calibration.setup) + "; the dataset is " +
-                         SetupName(input.setup));
+                     std::string("the result's setup, ") + SetupName(calibration.setup) +
+                         "; the dataset is " + SetupName(input.setup));
   Dataset dataset = input;
   for (const CameraResult& cam : calibration.cameras) {
     const int k = dataset.CameraIndex(cam.name);
-    if (k < 0) throw InputError("", "/cameras", "a camera named '" + cam.name + "' (the result has one)");
+    if (k < 0)
+      throw InputError("", "/cameras", "a camera named '" + cam.name + "' (the result has one)");
     if (cam.intrinsics) {
       dataset.cameras[k].params = cam.intrinsics->camera.params;
       dataset.cameras[k].num_distortion = cam.intrinsics->camera.num_distortion;
@@ -75,10 +78,11 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
     if (!cam.calibrated || drift.views < options.min_views) {
       drift.verdict = "not_assessed";
       drift.reason = !cam.calibrated ? std::string("not calibrated in the result")
-                     : drift.views == 0 ? std::string("not seen: no new view of the target")
-                                        : "only " + std::to_string(drift.views) + " usable new view" +
-                                              (drift.views == 1 ? "" : "s") + ", at least " +
-                                              std::to_string(options.min_views) + " needed";
+                     : drift.views == 0
+                         ? std::string("not seen: no new view of the target")
+                         : "only " + std::to_string(drift.views) + " usable new view" +
+                               (drift.views == 1 ? "" : "s") + ", at least " +
+                               std::to_string(options.min_views) + " needed";
       out.warnings.push_back(
           CameraWarning(WarningKind::kDriftNotChecked, cam.name,
                         "camera '" + cam.name + "': " + drift.reason + ": not checked"));
@@ -86,22 +90,20 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
       continue;
     }
     // The camera's pose from its new views alone, started at the calibrated one.
-    ceres::Problem::Options problem_options;
-    problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
-    ceres::Problem ceres_problem(problem_options);
-    PoseParams T_cam_mount = ToPoseParams(cam.T_cam.inverse()), T_holder_target_params = ToPoseParams(T_holder_target);
-    ceres_problem.AddParameterBlock(T_cam_mount.data(), 7, new internal::PoseManifold());
-    ceres_problem.AddParameterBlock(T_holder_target_params.data(), 7);
-    ceres_problem.SetParameterBlockConstant(T_holder_target_params.data());
+    internal::ChainProblem chain(2, 0);
+    ceres::Problem& ceres_problem = chain.problem();
+    double* T_cam_mount = chain.AddPose(cam.T_cam.inverse());
+    double* T_holder_target_block = chain.AddPose(T_holder_target, true);
     const double scale = std::max(1.0, 3.0 * internal::DetectionSigmaPx(problem));
     std::vector<ceres::ResidualBlockId> blocks;
     for (int v : views) {
       const internal::View& view = problem.views[v];
       blocks.push_back(ceres_problem.AddResidualBlock(
-          ViewReprojectionError::Create(
-              dataset.cameras[k], problem.T_mount_holder[view.pose],
-              std::make_shared<const ViewPoints>(ViewPoints{view.p_target, view.observation->points_px}), scale),
-          nullptr, T_cam_mount.data(), T_holder_target_params.data()));
+          ViewReprojectionError::Create(dataset.cameras[k], problem.T_mount_holder[view.pose],
+                                        std::make_shared<const ViewPoints>(
+                                            ViewPoints{view.p_target, view.observation->points_px}),
+                                        scale),
+          nullptr, T_cam_mount, T_holder_target_block));
     }
     ceres::Solver::Options solver;
     solver.linear_solver_type = ceres::DENSE_QR;
@@ -110,19 +112,18 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
     solver.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
     ceres::Solve(solver, &ceres_problem, &summary);
-    const Eigen::Isometry3d T_cam_mount_now = FromPoseParams(T_cam_mount.data());
+    const Eigen::Isometry3d T_cam_mount_now = internal::ChainProblem::Pose(T_cam_mount);
     drift.T_cam = T_cam_mount_now.inverse();
     drift.estimated = true;
     const internal::PoseDifference moved = internal::DifferenceOf(drift.T_cam, cam.T_cam);
     drift.moved_mm = moved.translation_mm;
     drift.moved_deg = moved.rotation_deg;
-    const internal::BlockCovariance covariance(&ceres_problem, {{T_cam_mount.data(), T_cam_mount.data()}},
+    const internal::BlockCovariance covariance(&ceres_problem, {{T_cam_mount, T_cam_mount}},
                                                ceres::DENSE_SVD);
     if (covariance.ok()) {
-      const Eigen::Matrix<double, 6, 6> C = covariance.Tangent(T_cam_mount.data(), T_cam_mount.data());
+      const Eigen::Matrix<double, 6, 6> C = covariance.Tangent(T_cam_mount, T_cam_mount);
       const double variance_factor = internal::VarianceFactor(&ceres_problem, blocks);
-      const PoseUncertainty u =
-          internal::UncertaintyOf(T_cam_mount_now, C * variance_factor, true);
+      const PoseUncertainty u = internal::UncertaintyOf(T_cam_mount_now, C * variance_factor, true);
       // The difference of two estimates: the new one and the calibration's
       // own, less what the given intrinsics' uncertainty adds to it: the new
       // views go through the same intrinsics, and their error moves both alike.
@@ -133,8 +134,10 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
     }
     // Moved: beyond the tolerance, and by more than the two estimates' noise
     // (3σ), so that a few noisy views do not call a camera moved.
-    const bool beyond = drift.moved_mm > options.tolerance_mm || drift.moved_deg > options.tolerance_deg;
-    const bool significant = drift.moved_mm > 3.0 * drift.sigma_mm || drift.moved_deg > 3.0 * drift.sigma_deg;
+    const bool beyond =
+        drift.moved_mm > options.tolerance_mm || drift.moved_deg > options.tolerance_deg;
+    const bool significant =
+        drift.moved_mm > 3.0 * drift.sigma_mm || drift.moved_deg > 3.0 * drift.sigma_deg;
     // Beyond a tolerance but within the noise: the check cannot tell either way.
     drift.verdict = beyond && significant ? "moved" : beyond ? "not_assessed" : "ok";
     if (beyond && !significant) {
@@ -148,13 +151,14 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
           WarningKind::kDriftWithinNoise, cam.name,
           "camera '" + cam.name + "' " + drift.reason +
               ": not called moved; take more poses with the target in its view to tell"));
-    }
-    else if (drift.sigma_mm > 0.5 * options.tolerance_mm || drift.sigma_deg > 0.5 * options.tolerance_deg) {
+    } else if (drift.sigma_mm > 0.5 * options.tolerance_mm ||
+               drift.sigma_deg > 0.5 * options.tolerance_deg) {
       std::ostringstream w;
       w.precision(3);
-      w << "camera '" << cam.name << "': its " << drift.views << " new views know it to ± " << drift.sigma_mm
-        << " mm / ± " << drift.sigma_deg << " deg, too coarse for the tolerance (" << options.tolerance_mm << " mm, "
-        << options.tolerance_deg << " deg): take more poses with the target in its view";
+      w << "camera '" << cam.name << "': its " << drift.views << " new views know it to ± "
+        << drift.sigma_mm << " mm / ± " << drift.sigma_deg << " deg, too coarse for the tolerance ("
+        << options.tolerance_mm << " mm, " << options.tolerance_deg
+        << " deg): take more poses with the target in its view";
       out.warnings.push_back(CameraWarning(WarningKind::kDriftTooCoarse, cam.name, w.str()));
     }
     out.cameras.push_back(drift);

@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "calibration_internal.h"
+#include "chain_problem.h"
 #include "cost_jacobians.h"
 #include "covariance.h"
 #include "handeye/core/cost_functions.h"
@@ -40,7 +41,9 @@ std::vector<Eigen::Vector2d> CornerRays(const Camera& camera) {
   for (double u : {0.0, camera.width - 1.0})
     for (double v : {0.0, camera.height - 1.0}) {
       const auto xy = camera.Undistort({u, v});
-      rays.push_back(xy ? *xy : Eigen::Vector2d((u - camera.cx()) / camera.fx(), (v - camera.cy()) / camera.fy()));
+      rays.push_back(
+          xy ? *xy
+             : Eigen::Vector2d((u - camera.cx()) / camera.fx(), (v - camera.cy()) / camera.fy()));
     }
   return rays;
 }
@@ -71,8 +74,8 @@ Intrinsics CornerEffect(const Camera& camera) {
     double residual[2];
     Eigen::Matrix<double, 2, 3> d_p;
     cost_internal::IntrinsicsJacobian d_k;
-    if (!cost_internal::ProjectPointWithIntrinsicsJacobian(camera.params.data(), p_cam, Eigen::Vector2d::Zero(),
-                                                           0.0, residual, &d_p, &d_k))
+    if (!cost_internal::ProjectPointWithIntrinsicsJacobian(
+            camera.params.data(), p_cam, Eigen::Vector2d::Zero(), 0.0, residual, &d_p, &d_k))
       continue;
     for (int p = 0; p < kN; ++p) effect[p] = std::max(effect[p], d_k.col(p).norm());
   }
@@ -88,8 +91,10 @@ class IntrinsicsPriorCost : public ceres::CostFunction {
     set_num_residuals(static_cast<int>(free_.size()));
     mutable_parameter_block_sizes()->push_back(kN);
   }
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    for (size_t i = 0; i < free_.size(); ++i) residuals[i] = weight_[i] * (parameters[0][free_[i]] - given_[free_[i]]);
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    for (size_t i = 0; i < free_.size(); ++i)
+      residuals[i] = weight_[i] * (parameters[0][free_[i]] - given_[free_[i]]);
     if (jacobians && jacobians[0]) {
       std::fill(jacobians[0], jacobians[0] + free_.size() * kN, 0.0);
       for (size_t i = 0; i < free_.size(); ++i) jacobians[0][i * kN + free_[i]] = weight_[i];
@@ -107,7 +112,8 @@ class IntrinsicsPriorCost : public ceres::CostFunction {
 
 namespace {
 
-double ViewDesignFactor(const ceres::Problem& problem, const std::vector<ceres::ResidualBlockId>& views) {
+double ViewDesignFactor(const ceres::Problem& problem,
+                        const std::vector<ceres::ResidualBlockId>& views) {
   // Per axis: s² over all points, and n·m² per view (m the view's mean
   // residual), which is s² on average when the points are independent and
   // grows with an error the view's points share.
@@ -138,10 +144,10 @@ double ViewDesignFactor(const ceres::Problem& problem, const std::vector<ceres::
 
 /// How far (mm) the camera centre of the T_cam_mount block `T` moves for the
 /// tangent step `step` of its pose manifold.
-double MovedMm(const PoseParams& T, const Eigen::Matrix<double, 6, 1>& step) {
+double MovedMm(const double* T, const Eigen::Matrix<double, 6, 1>& step) {
   PoseParams moved;
-  PoseManifold().Plus(T.data(), step.data(), moved.data());
-  return 1000.0 * (FromPoseParams(T.data()).inverse().translation() -
+  PoseManifold().Plus(T, step.data(), moved.data());
+  return 1000.0 * (FromPoseParams(T).inverse().translation() -
                    FromPoseParams(moved.data()).inverse().translation())
                       .norm();
 }
@@ -155,7 +161,8 @@ double VarianceFactor(ceres::Problem* problem, const std::vector<ceres::Residual
   problem->GetParameterBlocks(&blocks);
   int free = 0;
   for (double* block : blocks)
-    if (!problem->IsParameterBlockConstant(block)) free += problem->ParameterBlockTangentSize(block);
+    if (!problem->IsParameterBlockConstant(block))
+      free += problem->ParameterBlockTangentSize(block);
   const int redundancy = problem->NumResiduals() - free;
   return (redundancy > 0 ? 2.0 * cost / redundancy : 1.0) * ViewDesignFactor(*problem, views);
 }
@@ -167,7 +174,8 @@ Intrinsics IntrinsicsPriorSigma(const Camera& camera) {
   return sigma;
 }
 
-ceres::CostFunction* IntrinsicsPrior(const Camera& given, const std::vector<int>& free, double pixel_sigma_px) {
+ceres::CostFunction* IntrinsicsPrior(const Camera& given, const std::vector<int>& free,
+                                     double pixel_sigma_px) {
   const Intrinsics sigma = IntrinsicsPriorSigma(given);
   std::vector<double> weight;
   for (int p : free) weight.push_back(sigma[p] > 0 ? pixel_sigma_px / sigma[p] : 0.0);
@@ -180,7 +188,8 @@ UncertainIntrinsics UncertainGivenIntrinsics(const Camera& camera, const std::ve
   UncertainIntrinsics out;
   const double focal = 0.01 * sigma.focal_percent;
   if (focal > 0 && !is_free(0) && !is_free(1)) out.params.insert(out.params.end(), {0, 1});
-  if (sigma.principal_point_px > 0 && !is_free(2) && !is_free(3)) out.params.insert(out.params.end(), {2, 3});
+  if (sigma.principal_point_px > 0 && !is_free(2) && !is_free(3))
+    out.params.insert(out.params.end(), {2, 3});
   const int n = static_cast<int>(out.params.size());
   out.covariance = Eigen::MatrixXd::Zero(n, n);
   for (int i = 0; i < n; ++i)
@@ -194,7 +203,8 @@ UncertainIntrinsics UncertainGivenIntrinsics(const Camera& camera, const std::ve
   return out;
 }
 
-ceres::CostFunction* UncertainIntrinsicsPrior(const Camera& camera, const UncertainIntrinsics& uncertain,
+ceres::CostFunction* UncertainIntrinsicsPrior(const Camera& camera,
+                                              const UncertainIntrinsics& uncertain,
                                               double pixel_sigma_px) {
   std::vector<double> weight;
   for (size_t i = 0; i < uncertain.params.size(); ++i)
@@ -202,12 +212,15 @@ ceres::CostFunction* UncertainIntrinsicsPrior(const Camera& camera, const Uncert
   return new IntrinsicsPriorCost(camera.params, uncertain.params, std::move(weight));
 }
 
-Eigen::MatrixXd UncertainIntrinsicsPriorInformation(const UncertainIntrinsics& uncertain, double pixel_sigma_px) {
+Eigen::MatrixXd UncertainIntrinsicsPriorInformation(const UncertainIntrinsics& uncertain,
+                                                    double pixel_sigma_px) {
   // The weights of UncertainIntrinsicsPrior, squared.
-  return (pixel_sigma_px * pixel_sigma_px * uncertain.covariance.diagonal().cwiseInverse()).asDiagonal();
+  return (pixel_sigma_px * pixel_sigma_px * uncertain.covariance.diagonal().cwiseInverse())
+      .asDiagonal();
 }
 
-std::vector<int> IntrinsicsUnknowns(const std::vector<int>& free, const UncertainIntrinsics& uncertain,
+std::vector<int> IntrinsicsUnknowns(const std::vector<int>& free,
+                                    const UncertainIntrinsics& uncertain,
                                     std::vector<int>* uncertain_tangent) {
   std::vector<int> unknowns = free;
   unknowns.insert(unknowns.end(), uncertain.params.begin(), uncertain.params.end());
@@ -220,7 +233,8 @@ std::vector<int> IntrinsicsUnknowns(const std::vector<int>& free, const Uncertai
   return unknowns;
 }
 
-std::vector<int> UndeterminedIntrinsics(const Camera& given, const Intrinsics& sigma, const std::vector<int>& free) {
+std::vector<int> UndeterminedIntrinsics(const Camera& given, const Intrinsics& sigma,
+                                        const std::vector<int>& free) {
   const Intrinsics prior = IntrinsicsPriorSigma(given);
   std::vector<int> undetermined;
   for (int p : free)
@@ -237,7 +251,8 @@ Camera EstimateIntrinsics(const Dataset& dataset, int k) {
       "; take at least 10 views with the target tilted by 20° or more in different directions and "
       "covering the image, or give the camera's intrinsics in the dataset";
   if (views.size() < 3)
-    throw SolveError("camera '" + camera.name + "' has no intrinsics and " + std::to_string(views.size()) +
+    throw SolveError("camera '" + camera.name + "' has no intrinsics and " +
+                     std::to_string(views.size()) +
                      " views of the target: too few to estimate them" + advice);
   // OpenCV's calibration grows with the views; 40 spread over the capture are plenty for a start.
   constexpr size_t kMaxViews = 40;
@@ -261,30 +276,36 @@ Camera EstimateIntrinsics(const Dataset& dataset, int k) {
   try {
     // Zhang's closed form from the views' homographies, then Levenberg–Marquardt
     // over fx, fy, cx, cy, k1, k2, p1, p2 (k3 held at 0: few views cannot tell it).
-    cv::calibrateCamera(object, image, cv::Size(camera.width, camera.height), K, dist, rvecs, tvecs, std_intrinsics,
-                        std_extrinsics, per_view, cv::CALIB_FIX_K3);
+    cv::calibrateCamera(object, image, cv::Size(camera.width, camera.height), K, dist, rvecs, tvecs,
+                        std_intrinsics, std_extrinsics, per_view, cv::CALIB_FIX_K3);
   } catch (const cv::Exception& e) {
-    throw SolveError("camera '" + camera.name + "' has no intrinsics and its views do not determine them (" +
-                     e.err + ")" + advice);
+    throw SolveError("camera '" + camera.name +
+                     "' has no intrinsics and its views do not determine them (" + e.err + ")" +
+                     advice);
   }
-  const double fx = K.at<double>(0, 0), fy = K.at<double>(1, 1), cx = K.at<double>(0, 2), cy = K.at<double>(1, 2);
+  const double fx = K.at<double>(0, 0), fy = K.at<double>(1, 1), cx = K.at<double>(0, 2),
+               cy = K.at<double>(1, 2);
   const double s_fx = std_intrinsics.at<double>(0), s_fy = std_intrinsics.at<double>(1);
   const double s_cx = std_intrinsics.at<double>(2), s_cy = std_intrinsics.at<double>(3);
-  const bool determined = fx > 0 && fy > 0 && std::isfinite(s_fx) && std::isfinite(s_cx) && s_fx < 0.05 * fx &&
-                          s_fy < 0.05 * fy && s_cx < 0.05 * camera.width && s_cy < 0.05 * camera.height;
+  const bool determined = fx > 0 && fy > 0 && std::isfinite(s_fx) && std::isfinite(s_cx) &&
+                          s_fx < 0.05 * fx && s_fy < 0.05 * fy && s_cx < 0.05 * camera.width &&
+                          s_cy < 0.05 * camera.height;
   if (!determined) {
     std::ostringstream why;
     why.precision(3);
     why << "camera '" << camera.name << "' has no intrinsics and its " << views.size()
-        << " views are too alike to estimate them (fx " << fx << " ± " << s_fx << ", cx " << cx << " ± " << s_cx
-        << " px)" << advice;
+        << " views are too alike to estimate them (fx " << fx << " ± " << s_fx << ", cx " << cx
+        << " ± " << s_cx << " px)" << advice;
     throw SolveError(why.str());
   }
   std::vector<double> coeffs(5, 0.0);
   for (int i = 0; i < 5 && i < static_cast<int>(dist.total()); ++i) coeffs[i] = dist.at<double>(i);
   std::string why;
-  auto estimated = Camera::Make(camera.name, camera.width, camera.height, fx, fy, cx, cy, coeffs, &why);
-  if (!estimated) throw SolveError("camera '" + camera.name + "': the intrinsics estimated from its views: " + why);
+  auto estimated =
+      Camera::Make(camera.name, camera.width, camera.height, fx, fy, cx, cy, coeffs, &why);
+  if (!estimated)
+    throw SolveError("camera '" + camera.name +
+                     "': the intrinsics estimated from its views: " + why);
   return *estimated;
 }
 
@@ -295,44 +316,35 @@ std::vector<Warning> IntrinsicsWarnings(
   const Dataset& dataset = *problem.dataset;
   std::vector<Warning> warnings;
   for (size_t k = 0; k < dataset.cameras.size(); ++k) {
-    if (k >= check.size() || !check[k] || !T_cam_mount[k] || problem.camera_views[k].size() < 3) continue;
+    if (k >= check.size() || !check[k] || !T_cam_mount[k] || problem.camera_views[k].size() < 3)
+      continue;
     const Camera& camera = dataset.cameras[k];
-    ceres::Problem::Options problem_options;
-    problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
-    ceres::Problem ceres_problem(problem_options);
-    PoseParams T_cam_mount_k = ToPoseParams(*T_cam_mount[k]), T_holder_target_k = ToPoseParams(T_holder_target[k]);
-    Intrinsics K = camera.params;
-    ceres_problem.AddParameterBlock(T_cam_mount_k.data(), 7, new PoseManifold());
-    ceres_problem.AddParameterBlock(T_holder_target_k.data(), 7);
-    ceres_problem.SetManifold(T_holder_target_k.data(), new PoseManifold());
-    std::vector<int> constant;
-    for (int p = 4; p < kN; ++p) constant.push_back(p);
-    ceres_problem.AddParameterBlock(K.data(), kN, new ceres::SubsetManifold(kN, constant));
+    ChainProblem chain(2 + problem.camera_views[k].size(), 1);
+    ceres::Problem& ceres_problem = chain.problem();
+    double* T_cam_mount_k = chain.AddPose(*T_cam_mount[k]);
+    double* T_holder_target_k = chain.AddPose(T_holder_target[k]);
+    double* K = chain.AddIntrinsics(camera.params, {0, 1, 2, 3});
     // With the robot's pose error modelled, each pose is a block under its
     // prior, as in the joint solve: a pose's error moves all points of its
     // view together, which the per-point residuals alone would count as
     // independent evidence (σ too small, false alarms).
-    std::vector<PoseParams> T_mount_holder(dataset.poses.size());
     std::vector<ceres::ResidualBlockId> view_blocks;
     for (int v : problem.camera_views[k]) {
       const View& view = problem.views[v];
-      auto points = std::make_shared<const ViewPoints>(ViewPoints{view.p_target, view.observation->points_px});
+      auto points = std::make_shared<const ViewPoints>(
+          ViewPoints{view.p_target, view.observation->points_px});
       if (robot) {
-        double* T_mount_holder_j = T_mount_holder[view.pose].data();
-        T_mount_holder[view.pose] = ToPoseParams(problem.T_mount_holder[view.pose]);
-        ceres_problem.AddParameterBlock(T_mount_holder_j, 7, new PoseManifold());
-        ceres_problem.AddResidualBlock(
-            RobotPosePrior::Create(dataset.poses[view.pose].T_base_ee, FramesOf(dataset.setup).RobotPoseInverted(),
-                                   robot->sigma_rad, robot->sigma_m, robot->pixel_sigma_px),
-            nullptr, T_mount_holder_j);
+        double* T_mount_holder_j = chain.AddRobotPose(
+            problem.T_mount_holder[view.pose], dataset.poses[view.pose], dataset.setup, *robot);
         view_blocks.push_back(ceres_problem.AddResidualBlock(
-            ViewReprojectionWithRobotError::Create(camera, std::move(points), cauchy_scale_px, true), nullptr,
-            {T_cam_mount_k.data(), T_mount_holder_j, T_holder_target_k.data(), K.data()}));
+            ViewReprojectionWithRobotError::Create(camera, std::move(points), cauchy_scale_px,
+                                                   true),
+            nullptr, {T_cam_mount_k, T_mount_holder_j, T_holder_target_k, K}));
       } else {
-        view_blocks.push_back(
-            ceres_problem.AddResidualBlock(ViewReprojectionError::Create(camera, problem.T_mount_holder[view.pose],
-                                                                         std::move(points), cauchy_scale_px, true),
-                                           nullptr, T_cam_mount_k.data(), T_holder_target_k.data(), K.data()));
+        view_blocks.push_back(ceres_problem.AddResidualBlock(
+            ViewReprojectionError::Create(camera, problem.T_mount_holder[view.pose],
+                                          std::move(points), cauchy_scale_px, true),
+            nullptr, T_cam_mount_k, T_holder_target_k, K));
       }
     }
     ceres::Solver::Options solver;
@@ -342,18 +354,21 @@ std::vector<Warning> IntrinsicsWarnings(
     ceres::Solver::Summary summary;
     ceres::Solve(solver, &ceres_problem, &summary);
     if (summary.termination_type == ceres::FAILURE) continue;
-    const BlockCovariance covariance(&ceres_problem, {{K.data(), K.data()}, {T_cam_mount_k.data(), K.data()}},
+    const BlockCovariance covariance(&ceres_problem, {{K, K}, {T_cam_mount_k, K}},
                                      robot ? ceres::SPARSE_QR : ceres::DENSE_SVD);
     if (!covariance.ok()) continue;
-    const Eigen::MatrixXd C = covariance.Ambient(K.data(), K.data());
+    const Eigen::MatrixXd C = covariance.Ambient(K, K);
     const double variance_factor = VarianceFactor(&ceres_problem, view_blocks);
     double sigma[4], delta[4];
     for (int p = 0; p < 4; ++p) {
       sigma[p] = std::sqrt(std::max(0.0, C(p, p)) * variance_factor);
       delta[p] = K[p] - camera.params[p];
     }
-    auto off = [&](int p, double visible) { return std::abs(delta[p]) > std::max(3.0 * sigma[p], visible); };
-    const bool focal_off = (check[k] & kFocal) && (off(0, 0.003 * camera.fx()) || off(1, 0.003 * camera.fy()));
+    auto off = [&](int p, double visible) {
+      return std::abs(delta[p]) > std::max(3.0 * sigma[p], visible);
+    };
+    const bool focal_off =
+        (check[k] & kFocal) && (off(0, 0.003 * camera.fx()) || off(1, 0.003 * camera.fy()));
     const bool centre_off = (check[k] & kPrincipalPoint) && (off(2, 0.5) || off(3, 0.5));
     if (!focal_off && !centre_off) continue;
     // Where the given values of the groups found off put the camera, against
@@ -361,8 +376,9 @@ std::vector<Warning> IntrinsicsWarnings(
     // (the subset manifold's tangent), the other group's ΔK 0.
     Eigen::Matrix<double, 6, 1> moved = Eigen::Matrix<double, 6, 1>::Zero();
     {
-      const Eigen::Matrix<double, 4, 4, Eigen::RowMajor> C_KK = covariance.Tangent(K.data(), K.data());
-      const Eigen::Matrix<double, 6, 4, Eigen::RowMajor> C_xK = covariance.Tangent(T_cam_mount_k.data(), K.data());
+      const Eigen::Matrix<double, 4, 4, Eigen::RowMajor> C_KK = covariance.Tangent(K, K);
+      const Eigen::Matrix<double, 6, 4, Eigen::RowMajor> C_xK =
+          covariance.Tangent(T_cam_mount_k, K);
       Eigen::Vector4d given_minus_seen = Eigen::Vector4d::Zero();
       for (int p = 0; p < 4; ++p)
         if ((p < 2 && focal_off) || (p >= 2 && centre_off)) given_minus_seen[p] = -delta[p];
@@ -375,9 +391,10 @@ std::vector<Warning> IntrinsicsWarnings(
     w << "camera '" << camera.name << "': the images suggest ";
     std::vector<std::string> groups;
     if (focal_off) {
-      const double percent = 100.0 * std::max(std::abs(delta[0]) / camera.fx(), std::abs(delta[1]) / camera.fy());
-      w << "fx, fy ≈ " << K[0] << ", " << K[1] << " (± " << std::max(sigma[0], sigma[1]) << " px), " << percent
-        << " % from the given values";
+      const double percent =
+          100.0 * std::max(std::abs(delta[0]) / camera.fx(), std::abs(delta[1]) / camera.fy());
+      w << "fx, fy ≈ " << K[0] << ", " << K[1] << " (± " << std::max(sigma[0], sigma[1]) << " px), "
+        << percent << " % from the given values";
       groups.push_back("focal");
     }
     if (centre_off) {
@@ -385,7 +402,8 @@ std::vector<Warning> IntrinsicsWarnings(
       w.precision(2);
       w << "cx, cy ≈ " << K[2] << ", " << K[3] << " (± " << std::max(sigma[2], sigma[3]) << " px), "
         << std::hypot(delta[2], delta[3]) << " px from the given values";
-      if (std::abs(delta[2] + 1.0) < 0.35 && std::abs(delta[3] + 1.0) < 0.35) w << "; a 1-based principal point?";
+      if (std::abs(delta[2] + 1.0) < 0.35 && std::abs(delta[3] + 1.0) < 0.35)
+        w << "; a 1-based principal point?";
       groups.push_back("principal_point");
     }
     const std::string text = w.str();

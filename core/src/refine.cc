@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The nonlinear refinement: the paper's joint problem (shared T_holder_target, c_rpj + c_cross
 // under a Cauchy loss) and the per-camera variant.
+#include <ceres/iteration_callback.h>
 #include <ceres/manifold.h>
 #include <ceres/ordered_groups.h>
-#include <ceres/product_manifold.h>
 #include <ceres/problem.h>
-#include <ceres/iteration_callback.h>
+#include <ceres/product_manifold.h>
 #include <ceres/solver.h>
 
 #include <algorithm>
@@ -16,6 +16,7 @@
 #include <tuple>
 
 #include "calibration_internal.h"
+#include "chain_problem.h"
 #include "consider_covariance.h"
 #include "handeye/core/cost_functions.h"
 #include "handeye/core/error.h"
@@ -25,43 +26,14 @@
 namespace handeye::internal {
 namespace {
 
-constexpr size_t kPoseParams = std::tuple_size<PoseParams>::value;
-
-/// The parameter blocks Ceres optimises in place, in one buffer, in the order
-/// they are added. Where it is given no order, Ceres orders blocks by their
-/// address (within a group of the linear solver's ordering, and the
-/// covariance's columns); blocks allocated one by one lie wherever the heap
-/// puts them, so the same solve ran with other rounding in another process
-/// (the Python module against the CLI). In one buffer, every process orders,
-/// and rounds, alike.
-class ParameterBlocks {
- public:
-  /// Room for `capacity` doubles: adding more would move the blocks Ceres holds.
-  explicit ParameterBlocks(size_t capacity) { storage_.reserve(capacity); }
-  double* AddPose(const Eigen::Isometry3d& T) {
-    const PoseParams params = ToPoseParams(T);
-    return Add(params.data(), params.size());
-  }
-  double* Add(const double* values, size_t size) {
-    if (storage_.size() + size > storage_.capacity())
-      throw std::logic_error("ParameterBlocks: more blocks than the room reserved for them");
-    double* block = storage_.data() + storage_.size();
-    storage_.insert(storage_.end(), values, values + size);
-    return block;
-  }
-  static Eigen::Isometry3d Get(const double* block) { return FromPoseParams(block); }
-
- private:
-  std::vector<double> storage_;
-};
-
 /// Stops the solve when no pose block moves by more than the tolerances in an
 /// iteration: a convergence test in millimetres and degrees, which the
 /// relative tolerances of Ceres (on the cost and the parameter vector) are not.
 class StepTolerance : public ceres::IterationCallback {
  public:
   StepTolerance(std::vector<const double*> blocks, const CalibrationOptions& options)
-      : blocks_(std::move(blocks)), max_translation_m_(options.step_tolerance_mm / 1000.0),
+      : blocks_(std::move(blocks)),
+        max_translation_m_(options.step_tolerance_mm / 1000.0),
         max_rotation_rad_(options.step_tolerance_deg * M_PI / 180.0) {
     for (const double* block : blocks_) previous_.push_back(FromPoseParams(block));
   }
@@ -71,7 +43,8 @@ class StepTolerance : public ceres::IterationCallback {
     bool moved = false;
     for (size_t i = 0; i < blocks_.size(); ++i) {
       const Eigen::Isometry3d now = FromPoseParams(blocks_[i]);
-      moved = moved || (now.translation() - previous_[i].translation()).norm() > max_translation_m_ ||
+      moved = moved ||
+              (now.translation() - previous_[i].translation()).norm() > max_translation_m_ ||
               RotationDistance(now.rotation(), previous_[i].rotation()) > max_rotation_rad_;
       previous_[i] = now;
     }
@@ -88,21 +61,6 @@ std::shared_ptr<const ViewPoints> Points(const View& view) {
   return std::make_shared<const ViewPoints>(ViewPoints{view.p_target, view.observation->points_px});
 }
 
-void SetPoseManifold(ceres::Problem* problem, double* block) {
-  problem->SetManifold(block, new PoseManifold());
-}
-
-/// Adds a camera's 18 intrinsics `K` as a block whose `unknowns` (ascending) are free.
-double* AddIntrinsicsBlock(ceres::Problem* problem, double* K, const std::vector<int>& unknowns) {
-  problem->AddParameterBlock(K, OpenCVCameraModel::kNumParams);
-  std::vector<int> constant;
-  for (int p = 0; p < OpenCVCameraModel::kNumParams; ++p)
-    if (!std::binary_search(unknowns.begin(), unknowns.end(), p)) constant.push_back(p);
-  if (!constant.empty())
-    problem->SetManifold(K, new ceres::SubsetManifold(OpenCVCameraModel::kNumParams, constant));
-  return K;
-}
-
 /// The stacked covariance of the uncertain inputs, block-diagonal over cameras.
 Eigen::MatrixXd BlockDiagonal(const std::vector<Eigen::MatrixXd>& blocks) {
   Eigen::Index n = 0;
@@ -116,7 +74,8 @@ Eigen::MatrixXd BlockDiagonal(const std::vector<Eigen::MatrixXd>& blocks) {
   return out;
 }
 
-ceres::Solver::Options SolverOptions(const CalibrationOptions& options, const ceres::Problem& problem) {
+ceres::Solver::Options SolverOptions(const CalibrationOptions& options,
+                                     const ceres::Problem& problem) {
   ceres::Solver::Options solver;
   // The problem has no landmarks, only pose blocks, so the normal equations
   // are small (6 per block). A dense Jacobian is cheapest while it is small;
@@ -223,8 +182,8 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
                         double* T_holder_target, const std::vector<double*>& K,
                         const std::vector<ceres::ResidualBlockId>& views,
                         const std::optional<RobotPrior>& robot,
-                        const std::vector<RobotPoseBlock>& robot_poses, ConsiderCovariance* covariance,
-                        int threads, Refinement* out) {
+                        const std::vector<RobotPoseBlock>& robot_poses,
+                        ConsiderCovariance* covariance, int threads, Refinement* out) {
   constexpr int kN = OpenCVCameraModel::kNumParams;
   out->intrinsics_sigma.assign(K.size(), {});
   for (auto& s : out->intrinsics_sigma) s.fill(0.0);
@@ -266,7 +225,8 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
       if (T_cam_mount[k] && !problem->IsParameterBlockConstant(T_cam_mount[k])) {
         out->T_cam_mount_covariance[k] = pose_covariance(T_cam_mount[k]);
         out->T_cam_mount_intrinsics_shift[k] = covariance->Shift(T_cam_mount[k], variance_factor);
-        out->T_cam_mount_intrinsics_covariance[k] = covariance->Consider(T_cam_mount[k], variance_factor);
+        out->T_cam_mount_intrinsics_covariance[k] =
+            covariance->Consider(T_cam_mount[k], variance_factor);
       }
     out->T_holder_target_covariance =
         pose_covariance(T_holder_target) + covariance->Consider(T_holder_target, variance_factor);
@@ -288,8 +248,8 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
       C = P * C_tangent * P.transpose();
     }
     for (int p = 0; p < kN; ++p)
-      out->intrinsics_sigma[k][p] =
-          ok ? std::sqrt(std::max(0.0, C(p, p)) * variance_factor) : std::numeric_limits<double>::infinity();
+      out->intrinsics_sigma[k][p] = ok ? std::sqrt(std::max(0.0, C(p, p)) * variance_factor)
+                                       : std::numeric_limits<double>::infinity();
     if (!ok && manifold) {
       // Fixed parameters stay exact: the subset manifold's plus is the identity on them.
       Eigen::Matrix<double, kN, Eigen::Dynamic, Eigen::RowMajor> P(kN, manifold->TangentSize());
@@ -302,28 +262,21 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
 
 }  // namespace
 
-Refinement RefineJoint(const Problem& problem, const Initialisation& init, const CalibrationOptions& options,
-                       const std::optional<RobotPrior>& robot, JointStep step) {
+Refinement RefineJoint(const Problem& problem, const Initialisation& init,
+                       const CalibrationOptions& options, const std::optional<RobotPrior>& robot,
+                       JointStep step) {
   const Dataset& dataset = *problem.dataset;
-  ceres::Problem::Options problem_options;
-  problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
-  ceres::Problem ceres_problem(problem_options);
-  // T_holder_target, the cameras, the robot poses, the pairs (k, t) and the intrinsics.
+  // T_holder_target, the cameras, the robot poses, the pairs (k, t); the intrinsics.
   const size_t n_cameras = dataset.cameras.size();
-  ParameterBlocks blocks(kPoseParams * (1 + n_cameras + dataset.poses.size() + n_cameras * n_cameras) +
-                         OpenCVCameraModel::kNumParams * n_cameras);
+  ChainProblem chain(1 + n_cameras + dataset.poses.size() + n_cameras * n_cameras, n_cameras);
+  ceres::Problem& ceres_problem = chain.problem();
 
-  double* T_holder_target = blocks.AddPose(init.T_holder_target);
-  ceres_problem.AddParameterBlock(T_holder_target, 7);
-  SetPoseManifold(&ceres_problem, T_holder_target);
+  double* T_holder_target = chain.AddPose(init.T_holder_target);
   std::vector<double*> T_cam_mount(dataset.cameras.size(), nullptr);
   for (size_t k = 0; k < T_cam_mount.size(); ++k) {
     if (!init.T_cam_mount[k] || problem.camera_views[k].empty()) continue;
-    T_cam_mount[k] = blocks.AddPose(*init.T_cam_mount[k]);
-    ceres_problem.AddParameterBlock(T_cam_mount[k], 7);
-    SetPoseManifold(&ceres_problem, T_cam_mount[k]);
-    if (k < init.fixed_T_cam_mount.size() && init.fixed_T_cam_mount[k])
-      ceres_problem.SetParameterBlockConstant(T_cam_mount[k]);
+    T_cam_mount[k] = chain.AddPose(*init.T_cam_mount[k],
+                                   k < init.fixed_T_cam_mount.size() && init.fixed_T_cam_mount[k]);
   }
 
   // Free intrinsics: one block of 18 per camera, the fixed ones held by a subset manifold.
@@ -337,7 +290,8 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
   for (size_t k = 0; k < K.size(); ++k) {
     K[k] = dataset.cameras[k].params;
     if (!T_cam_mount[k]) continue;
-    const std::vector<int> free = k < init.free_intrinsics.size() ? init.free_intrinsics[k] : std::vector<int>{};
+    const std::vector<int> free =
+        k < init.free_intrinsics.size() ? init.free_intrinsics[k] : std::vector<int>{};
     const UncertainIntrinsics uncertain =
         step == JointStep::kCovariance
             ? UncertainGivenIntrinsics(dataset.cameras[k], free, options.intrinsics_sigma)
@@ -345,16 +299,18 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
     std::vector<int> uncertain_tangent;
     const std::vector<int> unknowns = IntrinsicsUnknowns(free, uncertain, &uncertain_tangent);
     if (unknowns.empty()) continue;
-    K_block[k] = AddIntrinsicsBlock(&ceres_problem, blocks.Add(K[k].data(), K[k].size()), unknowns);
+    K_block[k] = chain.AddIntrinsics(K[k], unknowns);
     if (!free.empty())
-      ceres_problem.AddResidualBlock(IntrinsicsPrior(init.given_cameras[k], free, init.pixel_sigma_px), nullptr,
-                                     K_block[k]);
+      ceres_problem.AddResidualBlock(
+          IntrinsicsPrior(init.given_cameras[k], free, init.pixel_sigma_px), nullptr, K_block[k]);
     if (!uncertain.params.empty()) {
-      ceres_problem.AddResidualBlock(UncertainIntrinsicsPrior(dataset.cameras[k], uncertain, init.pixel_sigma_px),
-                                     nullptr, K_block[k]);
+      ceres_problem.AddResidualBlock(
+          UncertainIntrinsicsPrior(dataset.cameras[k], uncertain, init.pixel_sigma_px), nullptr,
+          K_block[k]);
       uncertain_coordinates.push_back({K_block[k], uncertain_tangent});
       uncertain_covariances.push_back(uncertain.covariance);
-      uncertain_prior_information.push_back(UncertainIntrinsicsPriorInformation(uncertain, init.pixel_sigma_px));
+      uncertain_prior_information.push_back(
+          UncertainIntrinsicsPriorInformation(uncertain, init.pixel_sigma_px));
     }
   }
 
@@ -364,23 +320,21 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
   std::vector<RobotPoseBlock> robot_poses;
   auto robot_pose = [&](int j) {
     if (!T_mount_holder[j]) {
-      T_mount_holder[j] = blocks.AddPose(j < static_cast<int>(init.T_mount_holder.size()) && init.T_mount_holder[j]
-                                         ? *init.T_mount_holder[j]
-                                         : problem.T_mount_holder[j]);
-      ceres_problem.AddParameterBlock(T_mount_holder[j], 7);
-      SetPoseManifold(&ceres_problem, T_mount_holder[j]);
-      const ceres::ResidualBlockId prior = ceres_problem.AddResidualBlock(
-          RobotPosePrior::Create(dataset.poses[j].T_base_ee,
-                                 FramesOf(dataset.setup).RobotPoseInverted(), robot->sigma_rad,
-                                 robot->sigma_m, robot->pixel_sigma_px),
-          nullptr, T_mount_holder[j]);
+      ceres::ResidualBlockId prior;
+      T_mount_holder[j] = chain.AddRobotPose(
+          j < static_cast<int>(init.T_mount_holder.size()) && init.T_mount_holder[j]
+              ? *init.T_mount_holder[j]
+              : problem.T_mount_holder[j],
+          dataset.poses[j], dataset.setup, *robot, &prior);
       robot_poses.push_back({T_mount_holder[j], prior});
     }
     return T_mount_holder[j];
   };
-  // One view's reprojection cost through camera block `camera_block` (T_camk_mount, direct or via t).
+  // One view's reprojection cost through camera block `camera_block` (T_camk_mount, direct or via
+  // t).
   std::vector<ceres::ResidualBlockId> direct_blocks;  // c_rpj, one per view
-  auto add_view = [&](const View& view, int k, double* camera_block, std::shared_ptr<const ViewPoints> view_points) {
+  auto add_view = [&](const View& view, int k, double* camera_block,
+                      std::shared_ptr<const ViewPoints> view_points) {
     const bool free_intrinsics = K_block[k] != nullptr;
     std::vector<double*> blocks = {camera_block};
     ceres::CostFunction* cost;
@@ -390,7 +344,8 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
       blocks.push_back(robot_pose(view.pose));
     } else {
       cost = ViewReprojectionError::Create(dataset.cameras[k], problem.T_mount_holder[view.pose],
-                                           std::move(view_points), options.cauchy_scale_px, free_intrinsics);
+                                           std::move(view_points), options.cauchy_scale_px,
+                                           free_intrinsics);
     }
     blocks.push_back(T_holder_target);
     if (free_intrinsics) blocks.push_back(K_block[k]);
@@ -431,9 +386,7 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
           double*& T_camk_mount_via_t = pair_blocks[{k, t}];
           if (!T_camk_mount_via_t) {
             // T_camk_camt starts at T_camk_mount · T_mount_camt, so this block at T_camk_mount.
-            T_camk_mount_via_t = blocks.AddPose(*init.T_cam_mount[k]);
-            ceres_problem.AddParameterBlock(T_camk_mount_via_t, 7);
-            SetPoseManifold(&ceres_problem, T_camk_mount_via_t);
+            T_camk_mount_via_t = chain.AddPose(*init.T_cam_mount[k]);
           }
           add_view(view_k, k, T_camk_mount_via_t, points[vk]);
         }
@@ -468,18 +421,19 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init, const
   solver.initial_trust_region_radius = 1e6;
   Refinement out;
   if (step == JointStep::kSolve) out.summary = Solve(solver, options, &ceres_problem);
-  out.T_holder_target.push_back(ParameterBlocks::Get(T_holder_target));
+  out.T_holder_target.push_back(ChainProblem::Pose(T_holder_target));
   out.T_cam_mount.resize(T_cam_mount.size());
   for (size_t k = 0; k < T_cam_mount.size(); ++k)
-    if (T_cam_mount[k]) out.T_cam_mount[k] = ParameterBlocks::Get(T_cam_mount[k]);
+    if (T_cam_mount[k]) out.T_cam_mount[k] = ChainProblem::Pose(T_cam_mount[k]);
   for (const auto& [pair, T_camk_mount_via_t] : pair_blocks)
-    out.pairs[pair] = ParameterBlocks::Get(T_camk_mount_via_t) * out.T_cam_mount[pair.second]->inverse();
+    out.pairs[pair] =
+        ChainProblem::Pose(T_camk_mount_via_t) * out.T_cam_mount[pair.second]->inverse();
   for (size_t k = 0; k < K.size(); ++k)
     if (K_block[k]) std::copy(K_block[k], K_block[k] + K[k].size(), K[k].begin());
   out.intrinsics = K;
   out.T_mount_holder.resize(T_mount_holder.size());
   for (size_t j = 0; j < T_mount_holder.size(); ++j)
-    if (T_mount_holder[j]) out.T_mount_holder[j] = ParameterBlocks::Get(T_mount_holder[j]);
+    if (T_mount_holder[j]) out.T_mount_holder[j] = ChainProblem::Pose(T_mount_holder[j]);
   if (step == JointStep::kCovariance) {
     ConsiderCovariance covariance(uncertain_coordinates, BlockDiagonal(uncertain_covariances),
                                   BlockDiagonal(uncertain_prior_information));
@@ -512,50 +466,46 @@ Refinement RefinePerCamera(const Problem& problem,
   out.summary.rounds = 1;
   for (size_t k = 0; k < dataset.cameras.size(); ++k) {
     if (!T_cam_mount_start[k] || problem.camera_views[k].empty()) continue;
-    ceres::Problem::Options problem_options;
-    problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
-    ceres::Problem ceres_problem(problem_options);
-    ParameterBlocks blocks(2 * kPoseParams + OpenCVCameraModel::kNumParams);
-    double* T_cam_mount = blocks.AddPose(*T_cam_mount_start[k]);
-    double* T_holder_target = blocks.AddPose(T_holder_target_start[k]);
-    for (double* b : {T_cam_mount, T_holder_target}) {
-      ceres_problem.AddParameterBlock(b, 7);
-      SetPoseManifold(&ceres_problem, b);
-    }
+    ChainProblem chain(2, 1);
+    ceres::Problem& ceres_problem = chain.problem();
+    double* T_cam_mount = chain.AddPose(*T_cam_mount_start[k]);
+    double* T_holder_target = chain.AddPose(T_holder_target_start[k]);
     // For the covariance, the camera's given intrinsics as uncertain inputs (ConsiderCovariance).
-    const UncertainIntrinsics uncertain = step == JointStep::kCovariance
-                                              ? UncertainGivenIntrinsics(dataset.cameras[k], {}, options.intrinsics_sigma)
-                                              : UncertainIntrinsics{};
-    const std::array<double, OpenCVCameraModel::kNumParams>& K = dataset.cameras[k].params;
+    const UncertainIntrinsics uncertain =
+        step == JointStep::kCovariance
+            ? UncertainGivenIntrinsics(dataset.cameras[k], {}, options.intrinsics_sigma)
+            : UncertainIntrinsics{};
     std::vector<int> uncertain_tangent;
     const std::vector<int> unknowns = IntrinsicsUnknowns({}, uncertain, &uncertain_tangent);
     double* K_block =
-        unknowns.empty() ? nullptr : AddIntrinsicsBlock(&ceres_problem, blocks.Add(K.data(), K.size()), unknowns);
+        unknowns.empty() ? nullptr : chain.AddIntrinsics(dataset.cameras[k].params, unknowns);
     if (K_block)
-      ceres_problem.AddResidualBlock(UncertainIntrinsicsPrior(dataset.cameras[k], uncertain, 1.0), nullptr, K_block);
+      ceres_problem.AddResidualBlock(UncertainIntrinsicsPrior(dataset.cameras[k], uncertain, 1.0),
+                                     nullptr, K_block);
     std::vector<ceres::ResidualBlockId> views;
     for (int v : problem.camera_views[k]) {
       const View& view = problem.views[v];
       std::vector<double*> view_blocks = {T_cam_mount, T_holder_target};
       if (K_block) view_blocks.push_back(K_block);
       views.push_back(ceres_problem.AddResidualBlock(
-          ViewReprojectionError::Create(dataset.cameras[k], problem.T_mount_holder[view.pose], Points(view),
-                                        options.cauchy_scale_px, K_block != nullptr),
+          ViewReprojectionError::Create(dataset.cameras[k], problem.T_mount_holder[view.pose],
+                                        Points(view), options.cauchy_scale_px, K_block != nullptr),
           nullptr, view_blocks));
     }
-    out.T_holder_target[k] = ParameterBlocks::Get(T_holder_target);
+    out.T_holder_target[k] = ChainProblem::Pose(T_holder_target);
     if (step == JointStep::kCovariance) {
-      out.T_cam_mount[k] = ParameterBlocks::Get(T_cam_mount);
+      out.T_cam_mount[k] = ChainProblem::Pose(T_cam_mount);
       ConsiderCovariance covariance(
           K_block ? std::vector<ConsiderCovariance::Coordinates>{{K_block, uncertain_tangent}}
                   : std::vector<ConsiderCovariance::Coordinates>{},
           uncertain.covariance, UncertainIntrinsicsPriorInformation(uncertain, 1.0));
       if (covariance.Compute({{T_cam_mount, T_cam_mount}}, &ceres_problem, options.threads)) {
         const double variance_factor = VarianceFactor(&ceres_problem, views);
-        out.T_cam_mount_covariance[k] =
-            Eigen::Matrix<double, 6, 6>(covariance.Block(T_cam_mount, T_cam_mount) * variance_factor);
+        out.T_cam_mount_covariance[k] = Eigen::Matrix<double, 6, 6>(
+            covariance.Block(T_cam_mount, T_cam_mount) * variance_factor);
         out.T_cam_mount_intrinsics_shift[k] = covariance.Shift(T_cam_mount, variance_factor);
-        out.T_cam_mount_intrinsics_covariance[k] = covariance.Consider(T_cam_mount, variance_factor);
+        out.T_cam_mount_intrinsics_covariance[k] =
+            covariance.Consider(T_cam_mount, variance_factor);
       }
       continue;
     }
@@ -564,8 +514,8 @@ Refinement RefinePerCamera(const Problem& problem,
     out.summary.iterations += s.iterations;
     out.summary.termination = s.termination;
     out.summary.converged = out.summary.converged && s.converged;
-    out.T_cam_mount[k] = ParameterBlocks::Get(T_cam_mount);
-    out.T_holder_target[k] = ParameterBlocks::Get(T_holder_target);
+    out.T_cam_mount[k] = ChainProblem::Pose(T_cam_mount);
+    out.T_holder_target[k] = ChainProblem::Pose(T_holder_target);
   }
   return out;
 }

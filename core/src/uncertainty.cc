@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "calibration_internal.h"
+#include "chain_problem.h"
 #include "covariance.h"
 #include "handeye/core/cost_functions.h"
 #include "handeye/core/error.h"
@@ -19,8 +20,8 @@ namespace internal {
 
 // Ceres' quaternion manifold turns by 2|δ| for a step δ, hence the
 // Jacobians with respect to the tangent are differentiated, not assumed.
-PoseUncertainty UncertaintyOf(const Eigen::Isometry3d& T, const Eigen::Matrix<double, 6, 6>& tangent_covariance,
-                              bool invert) {
+PoseUncertainty UncertaintyOf(const Eigen::Isometry3d& T,
+                              const Eigen::Matrix<double, 6, 6>& tangent_covariance, bool invert) {
   PoseManifold manifold;
   const PoseParams T0 = ToPoseParams(T);
   const Eigen::Isometry3d P0 = invert ? T.inverse() : T;
@@ -56,17 +57,10 @@ PoseUncertainty UncertaintyOf(const Eigen::Isometry3d& T, const Eigen::Matrix<do
 
 PositionCovariance ComputePositionCovariance(const Dataset& dataset, const CalibrationResult& at,
                                              double noise_px) {
-  ceres::Problem::Options problem_options;
-  problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
-  PoseParams T_holder_target = ToPoseParams(at.T_target);
-  problem.AddParameterBlock(T_holder_target.data(), 7, new internal::PoseManifold());
-  std::vector<PoseParams> T_cam_mount(dataset.cameras.size());
-  std::vector<bool> has_views(dataset.cameras.size(), false);
-  for (size_t k = 0; k < T_cam_mount.size(); ++k) {
-    if (k >= at.cameras.size() || !at.cameras[k].calibrated) continue;
-    T_cam_mount[k] = ToPoseParams(at.cameras[k].T_cam.inverse());
-  }
+  internal::ChainProblem chain(1 + dataset.cameras.size(), 0);
+  ceres::Problem& problem = chain.problem();
+  double* T_holder_target = chain.AddPose(at.T_target);
+  std::vector<double*> T_cam_mount(dataset.cameras.size(), nullptr);
   // Every detected point of every observation, at the given values: the bound
   // is for the data as detected, so this does not go through BuildProblem,
   // whose PnP drops views (fewer than 4 points, no plane pose, the target
@@ -75,11 +69,9 @@ PositionCovariance ComputePositionCovariance(const Dataset& dataset, const Calib
     const int k = dataset.CameraIndex(obs.camera);
     const int j = dataset.PoseIndex(obs.pose_id);
     if (k < 0 || j < 0 || !at.cameras[k].calibrated) continue;
-    if (!has_views[k]) {
-      problem.AddParameterBlock(T_cam_mount[k].data(), 7, new internal::PoseManifold());
-      has_views[k] = true;
-    }
-    const Eigen::Isometry3d T_mount_holder = FramesOf(dataset.setup).MountFromHolder(dataset.poses[j].T_base_ee);
+    if (!T_cam_mount[k]) T_cam_mount[k] = chain.AddPose(at.cameras[k].T_cam.inverse());
+    const Eigen::Isometry3d T_mount_holder =
+        FramesOf(dataset.setup).MountFromHolder(dataset.poses[j].T_base_ee);
     ViewPoints points;
     for (size_t i = 0; i < obs.ids.size(); ++i) {
       const TargetPoint* p = dataset.target->FindPoint(obs.ids[i]);
@@ -89,34 +81,40 @@ PositionCovariance ComputePositionCovariance(const Dataset& dataset, const Calib
     }
     if (points.p_target.empty()) continue;
     // No robust loss: the bound is for Gaussian noise on every point.
-    problem.AddResidualBlock(ViewReprojectionError::Create(dataset.cameras[k], T_mount_holder, std::move(points), 0.0),
-                             nullptr, T_cam_mount[k].data(), T_holder_target.data());
+    problem.AddResidualBlock(
+        ViewReprojectionError::Create(dataset.cameras[k], T_mount_holder, std::move(points), 0.0),
+        nullptr, T_cam_mount[k], T_holder_target);
   }
   internal::BlockCovariance::Pairs blocks;
   for (size_t k = 0; k < T_cam_mount.size(); ++k)
-    if (has_views[k]) blocks.emplace_back(T_cam_mount[k].data(), T_cam_mount[k].data());
+    if (T_cam_mount[k]) blocks.emplace_back(T_cam_mount[k], T_cam_mount[k]);
   const internal::BlockCovariance covariance(&problem, blocks, ceres::DENSE_SVD);
   if (!covariance.ok())
-    throw SolveError("the calibration is not observable from these views (singular information matrix)");
+    throw SolveError(
+        "the calibration is not observable from these views (singular information matrix)");
   PositionCovariance out;
   for (size_t k = 0; k < T_cam_mount.size(); ++k) {
-    if (!has_views[k]) continue;
-    const Eigen::Matrix<double, 6, 6> C = covariance.Tangent(T_cam_mount[k].data(), T_cam_mount[k].data());
-    const PoseUncertainty u =
-        internal::UncertaintyOf(FromPoseParams(T_cam_mount[k].data()), C * noise_px * noise_px, true);
+    if (!T_cam_mount[k]) continue;
+    const Eigen::Matrix<double, 6, 6> C = covariance.Tangent(T_cam_mount[k], T_cam_mount[k]);
+    const PoseUncertainty u = internal::UncertaintyOf(internal::ChainProblem::Pose(T_cam_mount[k]),
+                                                      C * noise_px * noise_px, true);
     constexpr double kMmToM = 1e-3, kDegToRad = M_PI / 180.0;
-    out.camera_position[dataset.cameras[k].name] = u.covariance.topLeftCorner<3, 3>() * kMmToM * kMmToM;
-    out.camera_rotation[dataset.cameras[k].name] = u.covariance.bottomRightCorner<3, 3>() * kDegToRad * kDegToRad;
+    out.camera_position[dataset.cameras[k].name] =
+        u.covariance.topLeftCorner<3, 3>() * kMmToM * kMmToM;
+    out.camera_rotation[dataset.cameras[k].name] =
+        u.covariance.bottomRightCorner<3, 3>() * kDegToRad * kDegToRad;
   }
   return out;
 }
 
 double PoseUncertainty::OwnPositionMm() const {
-  return std::sqrt(std::max(0.0, (covariance - from_given_intrinsics).topLeftCorner<3, 3>().trace()));
+  return std::sqrt(
+      std::max(0.0, (covariance - from_given_intrinsics).topLeftCorner<3, 3>().trace()));
 }
 
 double PoseUncertainty::OwnRotationDeg() const {
-  return std::sqrt(std::max(0.0, (covariance - from_given_intrinsics).bottomRightCorner<3, 3>().trace()));
+  return std::sqrt(
+      std::max(0.0, (covariance - from_given_intrinsics).bottomRightCorner<3, 3>().trace()));
 }
 
 }  // namespace handeye
