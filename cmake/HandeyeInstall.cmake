@@ -2,7 +2,8 @@
 # `cmake --install`: headers under include/handeye/, the five libraries and
 # the program, and a CMake package (handeyeConfig.cmake, its version file and
 # the exported targets handeye::core, handeye::detectors, handeye::io,
-# handeye::sim, handeye::report, handeye::handeye). Included from the
+# handeye::all (the three, <handeye/handeye.h>), handeye::sim,
+# handeye::report, handeye::handeye). Included from the
 # top-level CMakeLists.txt after the targets exist.
 include(CMakePackageConfigHelpers)
 
@@ -18,7 +19,7 @@ foreach(module core detectors io sim report)
           FILES_MATCHING PATTERN "*.h")
 endforeach()
 
-set(HANDEYE_INSTALLED_TARGETS handeye_core handeye_detectors handeye_io handeye_sim handeye_report handeye)
+set(HANDEYE_INSTALLED_TARGETS handeye_core handeye_detectors handeye_io handeye_all handeye_sim handeye_report handeye)
 # The internal worker pool is linked into the libraries; static ones pass it on
 # to their users' link lines, so then it is installed (no header) and exported.
 if(NOT BUILD_SHARED_LIBS)
