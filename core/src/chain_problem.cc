@@ -9,7 +9,7 @@
 #include <tuple>
 
 #include "calibration_internal.h"
-#include "handeye/core/cost_functions.h"
+#include "cost_functions.h"
 #include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
 

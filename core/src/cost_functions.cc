@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The cost functions the solver uses: the view costs with hand-chained
 // derivatives (cost_jacobians.h) and the robot pose prior.
-#include "handeye/core/cost_functions.h"
+#include "cost_functions.h"
 
 #include <memory>
 #include <utility>

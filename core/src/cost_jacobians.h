@@ -19,7 +19,7 @@
 #include <memory>
 
 #include "handeye/core/camera.h"
-#include "handeye/core/cost_functions.h"
+#include "cost_functions.h"
 #include "handeye/core/transform.h"
 
 namespace handeye::cost_internal {

@@ -14,7 +14,7 @@
 #include "chain_problem.h"
 #include "covariance.h"
 #include "diagnostics_internal.h"
-#include "handeye/core/cost_functions.h"
+#include "cost_functions.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
 

@@ -18,7 +18,7 @@
 #include "chain_problem.h"
 #include "cost_jacobians.h"
 #include "covariance.h"
-#include "handeye/core/cost_functions.h"
+#include "cost_functions.h"
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
 

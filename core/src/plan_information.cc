@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "calibration_internal.h"
-#include "handeye/core/cost_functions.h"
+#include "cost_functions.h"
 #include "handeye/core/setup_frames.h"
 #include "plan_internal.h"
 

@@ -19,7 +19,7 @@
 #include "calibration_internal.h"
 #include "chain_problem.h"
 #include "consider_covariance.h"
-#include "handeye/core/cost_functions.h"
+#include "cost_functions.h"
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"

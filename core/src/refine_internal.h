@@ -13,7 +13,7 @@
 
 #include "calibration_internal.h"
 #include "consider_covariance.h"
-#include "handeye/core/cost_functions.h"
+#include "cost_functions.h"
 
 namespace handeye::internal {
 

@@ -11,7 +11,7 @@
 #include <memory>
 
 #include "chain_problem.h"
-#include "handeye/core/cost_functions.h"
+#include "cost_functions.h"
 #include "refine_internal.h"
 
 namespace handeye::internal {

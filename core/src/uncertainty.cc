@@ -10,7 +10,7 @@
 #include "calibration_internal.h"
 #include "chain_problem.h"
 #include "covariance.h"
-#include "handeye/core/cost_functions.h"
+#include "cost_functions.h"
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"

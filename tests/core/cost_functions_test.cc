@@ -5,7 +5,7 @@
 #include <memory>
 #include <utility>
 
-#include "handeye/core/cost_functions.h"
+#include "cost_functions.h"
 
 // glog (through Ceres) defines its own CHECK; this file uses Catch's REQUIRE.
 

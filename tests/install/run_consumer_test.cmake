@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 # The installed package works for a project outside this tree:
 #  1. `cmake --install` the build tree into a fresh prefix;
+#     with no internals in its headers;
 #  2. the installed CMake files point into that prefix only (no path of the
 #     source or build tree leaks into what users get);
 #  3. the installed program runs (it finds its libraries through RUNPATH);
@@ -41,6 +42,16 @@ foreach(installed include/handeye/handeye.h include/handeye/core/calibration.h i
                   lib/cmake/handeye/handeyeConfigVersion.cmake bin/handeye)
   if(NOT EXISTS "${prefix}/${installed}")
     message(FATAL_ERROR "cmake --install did not install ${installed}")
+  endif()
+endforeach()
+
+# No internals in the installed headers: no namespace of implementation
+# details (`internal`, `cost_internal`, `detail`) is declared in one.
+file(GLOB_RECURSE installed_headers "${prefix}/include/handeye/*.h")
+foreach(header ${installed_headers})
+  file(STRINGS "${header}" internals REGEX "namespace [A-Za-z_:]*(internal|detail)")
+  if(internals)
+    message(FATAL_ERROR "the installed header ${header} declares internals: ${internals}")
   endif()
 endforeach()
 
