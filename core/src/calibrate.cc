@@ -14,7 +14,10 @@
 #include "diagnostics_internal.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
+#include "intrinsics_internal.h"
+#include "problem.h"
 #include "setup_mistakes.h"
+#include "view_consensus.h"
 
 namespace handeye {
 namespace internal {

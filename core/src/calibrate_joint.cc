@@ -10,7 +10,11 @@
 #include <vector>
 
 #include "calibrate_stages.h"
+#include "closed_form.h"
 #include "handeye/core/error.h"
+#include "intrinsics_internal.h"
+#include "problem.h"
+#include "refinement.h"
 #include "setup_mistakes.h"
 
 namespace handeye::internal {

@@ -8,8 +8,11 @@
 #include <vector>
 
 #include "calibrate_stages.h"
+#include "closed_form.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
+#include "problem.h"
+#include "refinement.h"
 
 namespace handeye::internal {
 namespace {

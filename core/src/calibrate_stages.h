@@ -11,8 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "calibration_internal.h"
 #include "handeye/core/calibration.h"
+#include "problem.h"
+#include "refinement.h"
 
 namespace handeye::internal {
 

@@ -8,11 +8,13 @@
 #include <set>
 #include <sstream>
 
-#include "calibration_internal.h"
+#include "closed_form.h"
 #include "diagnostics_internal.h"
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
+#include "problem.h"
+#include "view_consensus.h"
 
 namespace handeye::internal {
 namespace {
@@ -74,8 +76,8 @@ void SolvePnpAnySide(const Camera& camera, double max_rms_px, View* view) {
   // Some corners do not fit: keep the view when a clear majority does.
   std::vector<int> inliers;
   try {
-    ok = cv::solvePnPRansac(object, image, K, dist, rvec, tvec, false, 200, float(max_rms_px), 0.999,
-                            inliers, cv::SOLVEPNP_EPNP);
+    ok = cv::solvePnPRansac(object, image, K, dist, rvec, tvec, false, 200, float(max_rms_px),
+                            0.999, inliers, cv::SOLVEPNP_EPNP);
   } catch (const cv::Exception&) {
     ok = false;
   }
@@ -161,7 +163,8 @@ Problem BuildProblem(const Dataset& dataset, const CalibrationOptions& options) 
   Problem problem;
   problem.dataset = &dataset;
   const SetupFrames frames = FramesOf(dataset.setup);
-  for (const auto& pose : dataset.poses) problem.T_mount_holder.push_back(frames.MountFromHolder(pose.T_base_ee));
+  for (const auto& pose : dataset.poses)
+    problem.T_mount_holder.push_back(frames.MountFromHolder(pose.T_base_ee));
   problem.camera_views.resize(dataset.cameras.size());
   std::set<std::pair<int, int>> seen;
   for (const auto& obs : dataset.observations) {
@@ -169,9 +172,11 @@ Problem BuildProblem(const Dataset& dataset, const CalibrationOptions& options) 
     view.camera = dataset.CameraIndex(obs.camera);
     view.pose = dataset.PoseIndex(obs.pose_id);
     if (view.camera < 0)
-      throw InputError("", "/observations", "an observation names unknown camera '" + obs.camera + "'");
+      throw InputError("", "/observations",
+                       "an observation names unknown camera '" + obs.camera + "'");
     if (view.pose < 0)
-      throw InputError("", "/observations", "an observation names unknown pose '" + obs.pose_id + "'");
+      throw InputError("", "/observations",
+                       "an observation names unknown pose '" + obs.pose_id + "'");
     if (!seen.insert({view.pose, view.camera}).second)
       throw InputError("", "/observations",
                        "one observation per pose and camera; pose '" + obs.pose_id + "', camera '" +
@@ -208,7 +213,8 @@ std::string MotionDiversityProblem(const Problem& problem, const std::vector<int
   const RobotMotions motions = CollectMotions(problem, cameras);
   std::ostringstream why;
   if (motions.axes.empty()) {
-    why << "degenerate robot motion: the views differ in rotation by at most " << motions.largest_deg
+    why << "degenerate robot motion: the views differ in rotation by at most "
+        << motions.largest_deg
         << " deg; add poses that tilt the target by 15-30 deg about at least two different axes in "
            "view of the cameras";
     return why.str();
@@ -254,7 +260,8 @@ Eigen::Isometry3d ConsensusTransform(const std::vector<Eigen::Isometry3d>& estim
   const size_t n = estimates.size();
   if (n <= 2) return MeanTransform(estimates);
   auto distance = [](const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-    return (a.translation() - b.translation()).norm() + RotationDistance(a.rotation(), b.rotation());
+    return (a.translation() - b.translation()).norm() +
+           RotationDistance(a.rotation(), b.rotation());
   };
   // With many views, the medoid among a spread-out subset is as good.
   const size_t step = std::max<size_t>(1, n / 64);
@@ -286,7 +293,8 @@ std::optional<Eigen::Isometry3d> CameraGivenTarget(const Problem& problem, int c
   std::vector<Eigen::Isometry3d> estimates;
   for (int v : problem.camera_views[camera]) {
     const View& view = problem.views[v];
-    estimates.push_back(*view.T_cam_target * T_holder_target.inverse() * problem.T_mount_holder[view.pose].inverse());
+    estimates.push_back(*view.T_cam_target * T_holder_target.inverse() *
+                        problem.T_mount_holder[view.pose].inverse());
   }
   if (estimates.empty()) return std::nullopt;
   return ConsensusTransform(estimates);
@@ -297,16 +305,19 @@ std::optional<Eigen::Isometry3d> TargetGivenCamera(const Problem& problem, int c
   std::vector<Eigen::Isometry3d> estimates;
   for (int v : problem.camera_views[camera]) {
     const View& view = problem.views[v];
-    estimates.push_back(problem.T_mount_holder[view.pose].inverse() * T_cam_mount.inverse() * *view.T_cam_target);
+    estimates.push_back(problem.T_mount_holder[view.pose].inverse() * T_cam_mount.inverse() *
+                        *view.T_cam_target);
   }
   if (estimates.empty()) return std::nullopt;
   return ConsensusTransform(estimates);
 }
 
-std::vector<double> ViewErrors(const Problem& problem, const View& view, const Eigen::Isometry3d& T_cam_mount,
+std::vector<double> ViewErrors(const Problem& problem, const View& view,
+                               const Eigen::Isometry3d& T_cam_mount,
                                const Eigen::Isometry3d& T_holder_target) {
   const Camera& camera = problem.dataset->cameras[view.camera];
-  const Eigen::Isometry3d T_cam_target = T_cam_mount * problem.T_mount_holder[view.pose] * T_holder_target;
+  const Eigen::Isometry3d T_cam_target =
+      T_cam_mount * problem.T_mount_holder[view.pose] * T_holder_target;
   std::vector<double> errors;
   for (size_t i = 0; i < view.p_target.size(); ++i) {
     const auto uv = camera.Project(T_cam_target * view.p_target[i]);
@@ -315,7 +326,8 @@ std::vector<double> ViewErrors(const Problem& problem, const View& view, const E
   return errors;
 }
 
-double MedianViewRms(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+double MedianViewRms(const Problem& problem,
+                     const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
                      const Eigen::Isometry3d& T_holder_target) {
   std::vector<double> rms;
   for (const View& view : problem.views) {

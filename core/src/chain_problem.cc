@@ -8,10 +8,10 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "calibration_internal.h"
 #include "cost_functions.h"
 #include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
+#include "problem.h"
 
 namespace handeye::internal {
 namespace {

@@ -14,6 +14,7 @@
 
 #include "handeye/core/camera.h"
 #include "handeye/core/dataset.h"
+#include "problem.h"
 
 namespace handeye::internal {
 

@@ -2,21 +2,24 @@
 // Closed-form hand-eye: the adapters to OpenCV and ViSP (the only place their
 // frame names appear), a linear shared-target solve over all cameras, and the
 // initialisation of the joint solve.
+#include "closed_form.h"
+
 #include <visp3/core/vpHomogeneousMatrix.h>
 #include <visp3/vision/vpHandEyeCalibration.h>
 
 #include <Eigen/SVD>
-#include <opencv2/calib3d.hpp>
 #include <cstdio>
 #include <iostream>
-#include <streambuf>
 #include <limits>
 #include <mutex>
+#include <opencv2/calib3d.hpp>
 #include <sstream>
+#include <streambuf>
 
-#include "calibration_internal.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
+#include "problem.h"
+#include "view_consensus.h"
 
 namespace handeye::internal {
 namespace {
@@ -204,7 +207,8 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> OpenCvRobotWorld(
   cv::Mat R_base2world, t_base2world, R_gripper2cam, t_gripper2cam;
   try {
     cv::calibrateRobotWorldHandEye(R_world2cam, t_world2cam, R_base2gripper, t_base2gripper,
-                                   R_base2world, t_base2world, R_gripper2cam, t_gripper2cam, method);
+                                   R_base2world, t_base2world, R_gripper2cam, t_gripper2cam,
+                                   method);
   } catch (const cv::Exception& e) {
     *why = std::string("OpenCV calibrateRobotWorldHandEye failed: ") + e.what();
     return std::nullopt;
@@ -232,20 +236,30 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> ClosedFormHandEye
     return std::nullopt;
   }
   switch (method) {
-    case Method::kTsai: return OpenCvHandEye(problem, camera, cv::CALIB_HAND_EYE_TSAI, why);
-    case Method::kPark: return OpenCvHandEye(problem, camera, cv::CALIB_HAND_EYE_PARK, why);
-    case Method::kHoraud: return OpenCvHandEye(problem, camera, cv::CALIB_HAND_EYE_HORAUD, why);
-    case Method::kAndreff: return OpenCvHandEye(problem, camera, cv::CALIB_HAND_EYE_ANDREFF, why);
+    case Method::kTsai:
+      return OpenCvHandEye(problem, camera, cv::CALIB_HAND_EYE_TSAI, why);
+    case Method::kPark:
+      return OpenCvHandEye(problem, camera, cv::CALIB_HAND_EYE_PARK, why);
+    case Method::kHoraud:
+      return OpenCvHandEye(problem, camera, cv::CALIB_HAND_EYE_HORAUD, why);
+    case Method::kAndreff:
+      return OpenCvHandEye(problem, camera, cv::CALIB_HAND_EYE_ANDREFF, why);
     case Method::kDaniilidis:
       return OpenCvHandEye(problem, camera, cv::CALIB_HAND_EYE_DANIILIDIS, why);
-    case Method::kShah: return OpenCvRobotWorld(problem, camera, cv::CALIB_ROBOT_WORLD_HAND_EYE_SHAH, why);
-    case Method::kLi: return OpenCvRobotWorld(problem, camera, cv::CALIB_ROBOT_WORLD_HAND_EYE_LI, why);
-    case Method::kVisp: return VispHandEye(problem, camera, why);
-    default: *why = "not a closed-form method"; return std::nullopt;
+    case Method::kShah:
+      return OpenCvRobotWorld(problem, camera, cv::CALIB_ROBOT_WORLD_HAND_EYE_SHAH, why);
+    case Method::kLi:
+      return OpenCvRobotWorld(problem, camera, cv::CALIB_ROBOT_WORLD_HAND_EYE_LI, why);
+    case Method::kVisp:
+      return VispHandEye(problem, camera, why);
+    default:
+      *why = "not a closed-form method";
+      return std::nullopt;
   }
 }
 
-std::vector<NamedClosedForm> SilentClosedForms(const Problem& problem, int camera, std::string* why) {
+std::vector<NamedClosedForm> SilentClosedForms(const Problem& problem, int camera,
+                                               std::string* why) {
   // Park (rotation on the Lie group), Tsai (rotation axes) and ViSP (Tsai's
   // rotation refined by virtual visual servoing, the paper's initialisation)
   // fail in different ways on poor motion sets. None of them prints (ViSP's
@@ -295,7 +309,8 @@ std::optional<Eigen::Isometry3d> SharedTargetClosedForm(const Problem& problem) 
   // Rotation: the axes (rotation vectors) satisfy a_i = R_W · b_i (Kabsch).
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
   for (size_t i = 0; i < A.size(); ++i)
-    H += RotationVectorFromMatrix(B[i].rotation()) * RotationVectorFromMatrix(A[i].rotation()).transpose();
+    H += RotationVectorFromMatrix(B[i].rotation()) *
+         RotationVectorFromMatrix(A[i].rotation()).transpose();
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
   D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1 : 1;
@@ -322,7 +337,8 @@ Problem WithDiverseViews(const Problem& problem, size_t max_views) {
     std::vector<int> chosen = {ids.front()};
     std::vector<double> nearest(ids.size(), std::numeric_limits<double>::infinity());
     while (chosen.size() < max_views) {
-      const Eigen::Matrix3d last = problem.T_mount_holder[problem.views[chosen.back()].pose].linear();
+      const Eigen::Matrix3d last =
+          problem.T_mount_holder[problem.views[chosen.back()].pose].linear();
       size_t best = 0;
       for (size_t i = 0; i < ids.size(); ++i) {
         const Eigen::Matrix3d R = problem.T_mount_holder[problem.views[ids[i]].pose].linear();
@@ -351,8 +367,9 @@ Initialisation InitialiseJoint(const Problem& full_problem) {
   for (size_t k = 0; k < num_cameras; ++k) {
     std::string why;
     for (const NamedClosedForm& solved : SilentClosedForms(problem, static_cast<int>(k), &why))
-      candidates.emplace_back(solved.method + " on camera '" + problem.dataset->cameras[k].name + "'",
-                              solved.T_holder_target);
+      candidates.emplace_back(
+          solved.method + " on camera '" + problem.dataset->cameras[k].name + "'",
+          solved.T_holder_target);
   }
   if (const auto shared = SharedTargetClosedForm(problem))
     candidates.emplace_back("linear solve over all cameras", *shared);
@@ -368,7 +385,8 @@ Initialisation InitialiseJoint(const Problem& full_problem) {
     Initialisation init;
     init.T_holder_target = T_holder_target;
     for (size_t k = 0; k < num_cameras; ++k)
-      init.T_cam_mount.push_back(CameraGivenTarget(full_problem, static_cast<int>(k), T_holder_target));
+      init.T_cam_mount.push_back(
+          CameraGivenTarget(full_problem, static_cast<int>(k), T_holder_target));
     const double score = MedianViewRms(full_problem, init.T_cam_mount, T_holder_target);
     if (score < best_score) {
       best_score = score;

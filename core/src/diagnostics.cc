@@ -12,9 +12,12 @@
 #include <map>
 #include <sstream>
 
+#include "closed_form.h"
 #include "diagnostics_internal.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
+#include "problem.h"
+#include "view_consensus.h"
 
 namespace handeye::internal {
 
@@ -32,12 +35,15 @@ constexpr double kRadToDeg = 180.0 / M_PI;
 
 // The closed form a result is compared with: Park & Martin, or Tsai & Lenz
 // for a result that is Park's own (both OpenCV's; ViSP would print).
-Method ComparisonMethod(Method method) { return method == Method::kPark ? Method::kTsai : Method::kPark; }
+Method ComparisonMethod(Method method) {
+  return method == Method::kPark ? Method::kTsai : Method::kPark;
+}
 
 // "park" → "Park": the method's name as its authors' in a sentence.
 std::string AuthorName(std::string method) {
   if (method == "visp") return "ViSP";
-  if (!method.empty()) method[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(method[0])));
+  if (!method.empty())
+    method[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(method[0])));
   return method;
 }
 
@@ -45,14 +51,17 @@ std::string AuthorName(std::string method) {
 // T_cam_mount · T_mount_holder[j] · T_holder_target) when seen from
 // T_cam_mount_other instead.
 double DisplacementPx(const Problem& problem, int k, const Eigen::Isometry3d& T_cam_mount,
-                      const Eigen::Isometry3d& T_holder_target, const Eigen::Isometry3d& T_cam_mount_other) {
+                      const Eigen::Isometry3d& T_holder_target,
+                      const Eigen::Isometry3d& T_cam_mount_other) {
   const Camera& camera = problem.dataset->cameras[k];
   double sum = 0;
   int n = 0;
   for (int v : problem.camera_views[k]) {
     const View& view = problem.views[v];
-    const Eigen::Isometry3d T_cam_target = T_cam_mount * problem.T_mount_holder[view.pose] * T_holder_target;
-    const Eigen::Isometry3d T_othercam_target = T_cam_mount_other * problem.T_mount_holder[view.pose] * T_holder_target;
+    const Eigen::Isometry3d T_cam_target =
+        T_cam_mount * problem.T_mount_holder[view.pose] * T_holder_target;
+    const Eigen::Isometry3d T_othercam_target =
+        T_cam_mount_other * problem.T_mount_holder[view.pose] * T_holder_target;
     for (const Eigen::Vector3d& p : view.p_target) {
       const auto uv = camera.Project(T_cam_target * p);
       const auto uv_other = camera.Project(T_othercam_target * p);
@@ -64,8 +73,10 @@ double DisplacementPx(const Problem& problem, int k, const Eigen::Isometry3d& T_
   return n ? sum / n : 0.0;
 }
 
-ClosedFormComparison CompareWithClosedForm(const Problem& problem, int k, const Eigen::Isometry3d& T_cam_mount,
-                                           const Eigen::Isometry3d& T_holder_target, Method method) {
+ClosedFormComparison CompareWithClosedForm(const Problem& problem, int k,
+                                           const Eigen::Isometry3d& T_cam_mount,
+                                           const Eigen::Isometry3d& T_holder_target,
+                                           Method method) {
   ClosedFormComparison cmp;
   cmp.method = MethodName(method);
   std::string why;
@@ -78,14 +89,16 @@ ClosedFormComparison CompareWithClosedForm(const Problem& problem, int k, const 
   const Eigen::Isometry3d& T_cam_mount_closed_form = closed->first;
   // The camera poses as the result states them (T_mount_cam), so that the
   // figures are those `evaluate` gives with the closed form as the truth.
-  const PoseDifference moved = DifferenceOf(T_cam_mount_closed_form.inverse(), T_cam_mount.inverse());
+  const PoseDifference moved =
+      DifferenceOf(T_cam_mount_closed_form.inverse(), T_cam_mount.inverse());
   cmp.translation_mm = moved.translation_mm;
   cmp.rotation_deg = moved.rotation_deg;
   // The same target points (placed by the result's chain) seen from the
   // closed form's camera pose. Each method's own chain would not do: a closed
   // form's error in T_cam_mount is largely made up by its own
   // T_holder_target, so its predictions agree while the camera poses do not.
-  cmp.displacement_px = DisplacementPx(problem, k, T_cam_mount, T_holder_target, T_cam_mount_closed_form);
+  cmp.displacement_px =
+      DisplacementPx(problem, k, T_cam_mount, T_holder_target, T_cam_mount_closed_form);
   return cmp;
 }
 
@@ -95,17 +108,17 @@ ClosedFormComparison CompareWithClosedForm(const Problem& problem, int k, const 
 // between Park's and ViSP's on the set below), so "agree" is relative: within
 // the warning's threshold or a tenth of the disagreement, but never beyond 20
 // thresholds (a camera put metres off projects points near its own plane,
-// where displacements run to 10¹² px and a tenth of them means nothing). Where another closed form agrees with the result, the
-// compared one is the odd one out (on the industrial_calibration ChArUco set
-// Tsai's rotation axes put the camera 657 mm off while Park's and ViSP's
-// agree within 15 px): neither the robot poses nor the result are in
-// question. Where the closed forms agree with each other but not with the
-// result, the result is. Else empty: the closed forms disagree among
+// where displacements run to 10¹² px and a tenth of them means nothing). Where another closed form
+// agrees with the result, the compared one is the odd one out (on the industrial_calibration
+// ChArUco set Tsai's rotation axes put the camera 657 mm off while Park's and ViSP's agree within
+// 15 px): neither the robot poses nor the result are in question. Where the closed forms agree with
+// each other but not with the result, the result is. Else empty: the closed forms disagree among
 // themselves too, and the data are in question.
 std::string DisagreementCause(const Problem& problem, int k, const Eigen::Isometry3d& T_cam_mount,
                               const Eigen::Isometry3d& T_holder_target, Method result_method,
                               const ClosedFormComparison& compared, double threshold_px) {
-  const double agree_px = std::max(threshold_px, std::min(0.1 * compared.displacement_px, 20.0 * threshold_px));
+  const double agree_px =
+      std::max(threshold_px, std::min(0.1 * compared.displacement_px, 20.0 * threshold_px));
   std::string why;
   std::vector<std::string> others;
   std::vector<Eigen::Isometry3d> other_T_cam_mount;
@@ -123,7 +136,9 @@ std::string DisagreementCause(const Problem& problem, int k, const Eigen::Isomet
   }
   const std::string name = AuthorName(compared.method) + "'s closed form";
   if (closest_px <= agree_px)
-    return name + (compared.displacement_px > 100.0 * threshold_px ? " failed on these views" : " is the odd one out") +
+    return name +
+           (compared.displacement_px > 100.0 * threshold_px ? " failed on these views"
+                                                            : " is the odd one out") +
            ": " + closest + "'s agrees with the result within " + Fixed(closest_px, 1) +
            " px, so neither the robot poses nor the result are in question";
   if (others.empty()) return "";
@@ -132,25 +147,29 @@ std::string DisagreementCause(const Problem& problem, int k, const Eigen::Isomet
   const auto compared_form = ClosedFormHandEye(problem, k, *ParseMethod(compared.method), &why);
   if (!compared_form) return "";
   for (const Eigen::Isometry3d& other : other_T_cam_mount)
-    if (DisplacementPx(problem, k, compared_form->first, compared_form->second, other) > agree_px) return "";
+    if (DisplacementPx(problem, k, compared_form->first, compared_form->second, other) > agree_px)
+      return "";
   auto names = [](const std::vector<std::string>& list) {
     std::string out;
-    for (size_t i = 0; i < list.size(); ++i) out += (i == 0 ? "" : i + 1 == list.size() ? " and " : ", ") + list[i];
+    for (size_t i = 0; i < list.size(); ++i)
+      out += (i == 0 ? "" : i + 1 == list.size() ? " and " : ", ") + list[i];
     return out;
   };
   others.insert(others.begin(), AuthorName(compared.method));
-  const std::string agreeing = "the closed forms of " + names(others) + " agree with each other but not with the result: ";
+  const std::string agreeing =
+      "the closed forms of " + names(others) + " agree with each other but not with the result: ";
   if (result_method != Method::kJoint && result_method != Method::kPerCamera)
     return agreeing + AuthorName(MethodName(result_method)) +
            "'s closed form (the result) failed on these views, not the robot; use --method joint";
-  return agreeing + "the solve, not the robot, is the odd one out (another minimum, or this camera's views at "
-                    "odds with the other cameras'); compare with --method per-camera";
+  return agreeing +
+         "the solve, not the robot, is the odd one out (another minimum, or this camera's views at "
+         "odds with the other cameras'); compare with --method per-camera";
 }
 
-std::vector<Warning> QualityWarnings(const Problem& problem, const CalibrationOptions& options,
-                                     const CalibrationResult& result,
-                                         const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                                         const TargetPoses& T_holder_target) {
+std::vector<Warning> QualityWarnings(
+    const Problem& problem, const CalibrationOptions& options, const CalibrationResult& result,
+    const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+    const TargetPoses& T_holder_target) {
   const QualityThresholds& warn = options.warn;
   std::vector<Warning> warnings;
   for (size_t k = 0; k < result.cameras.size(); ++k) {
@@ -158,24 +177,28 @@ std::vector<Warning> QualityWarnings(const Problem& problem, const CalibrationOp
     if (!cam.calibrated) continue;  // warned about where it was left out
     const std::string name = "camera '" + cam.name + "'";
     if (cam.views < warn.min_views_per_camera)
-      warnings.push_back(CameraWarning(WarningKind::kFewViews, cam.name,
-                         name + ": few views, only " + std::to_string(cam.views) + " used (fewer than " +
-                         std::to_string(warn.min_views_per_camera) +
-                         "); one bad pose moves its result visibly; add robot poses in its view"));
+      warnings.push_back(CameraWarning(
+          WarningKind::kFewViews, cam.name,
+          name + ": few views, only " + std::to_string(cam.views) + " used (fewer than " +
+              std::to_string(warn.min_views_per_camera) +
+              "); one bad pose moves its result visibly; add robot poses in its view"));
     if (cam.rotation_spread_deg < warn.min_rotation_spread_deg)
-      warnings.push_back(CameraWarning(WarningKind::kPoorRotationSpread, cam.name,
-                         name + ": poor rotation diversity, its views differ in robot rotation by at most " +
-                         Fixed(cam.rotation_spread_deg, 1) + "° (< " + Fixed(warn.min_rotation_spread_deg, 0) +
-                         "°); tilt the target more between poses"));
+      warnings.push_back(CameraWarning(
+          WarningKind::kPoorRotationSpread, cam.name,
+          name + ": poor rotation diversity, its views differ in robot rotation by at most " +
+              Fixed(cam.rotation_spread_deg, 1) + "° (< " + Fixed(warn.min_rotation_spread_deg, 0) +
+              "°); tilt the target more between poses"));
     else if (cam.axis_spread_deg < warn.min_axis_spread_deg)
-      warnings.push_back(CameraWarning(WarningKind::kPoorRotationAxes, cam.name,
-                         name + ": poor rotation diversity, the robot motions between its views turn about " +
-                         "nearly one axis (largest angle between axes " + Fixed(cam.axis_spread_deg, 1) +
-                         "° < " + Fixed(warn.min_axis_spread_deg, 0) + "°); rotate about a second axis too"));
+      warnings.push_back(CameraWarning(
+          WarningKind::kPoorRotationAxes, cam.name,
+          name + ": poor rotation diversity, the robot motions between its views turn about " +
+              "nearly one axis (largest angle between axes " + Fixed(cam.axis_spread_deg, 1) +
+              "° < " + Fixed(warn.min_axis_spread_deg, 0) + "°); rotate about a second axis too"));
     if (warn.max_camera_rms_px > 0 && cam.rms_px > warn.max_camera_rms_px)
       warnings.push_back(CameraWarning(WarningKind::kLargeResiduals, cam.name,
-                         name + ": large residuals, RMS " + Fixed(cam.rms_px, 2) +
-                         " px through the calibrated chain (> " + Fixed(warn.max_camera_rms_px, 2) + " px)"));
+                                       name + ": large residuals, RMS " + Fixed(cam.rms_px, 2) +
+                                           " px through the calibrated chain (> " +
+                                           Fixed(warn.max_camera_rms_px, 2) + " px)"));
     if (cam.outliers > 0) {
       std::string list;
       int listed = 0;
@@ -190,24 +213,29 @@ std::vector<Warning> QualityWarnings(const Problem& problem, const CalibrationOp
                 Fixed(view.rms_px, 2) + " px)";
       }
       warnings.push_back(CameraWarning(WarningKind::kOutlierViews, cam.name,
-                         name + ": " + std::to_string(cam.outliers) + (cam.outliers == 1 ? " view" : " views") +
-                         " down-weighted as outliers by the solver: " + list));
+                                       name + ": " + std::to_string(cam.outliers) +
+                                           (cam.outliers == 1 ? " view" : " views") +
+                                           " down-weighted as outliers by the solver: " + list));
     }
     if (cam.closed_form && cam.closed_form->available && warn.max_closed_form_disagreement_px > 0 &&
         cam.closed_form->displacement_px > warn.max_closed_form_disagreement_px) {
       const std::string cause =
-          T_cam_mount[k] ? DisagreementCause(problem, static_cast<int>(k), *T_cam_mount[k], T_holder_target[k],
-                                             result.method, *cam.closed_form, warn.max_closed_form_disagreement_px)
+          T_cam_mount[k] ? DisagreementCause(problem, static_cast<int>(k), *T_cam_mount[k],
+                                             T_holder_target[k], result.method, *cam.closed_form,
+                                             warn.max_closed_form_disagreement_px)
                          : "";
-      warnings.push_back(CameraWarning(WarningKind::kClosedFormDisagrees, cam.name,
-                         name + ": the result and " + AuthorName(cam.closed_form->method) +
-                         "'s per-camera closed form disagree by " + Fixed(cam.closed_form->displacement_px, 1) +
-                         " px in the image (" + Fixed(cam.closed_form->translation_mm, 1) + " mm, " +
-                         Fixed(cam.closed_form->rotation_deg, 2) + "°; threshold " +
-                         Fixed(warn.max_closed_form_disagreement_px, 0) + " px); " +
-                         (cause.empty() ? "the closed forms disagree among themselves too: check this camera's "
-                                          "robot poses and views"
-                                        : cause)));
+      warnings.push_back(CameraWarning(
+          WarningKind::kClosedFormDisagrees, cam.name,
+          name + ": the result and " + AuthorName(cam.closed_form->method) +
+              "'s per-camera closed form disagree by " +
+              Fixed(cam.closed_form->displacement_px, 1) + " px in the image (" +
+              Fixed(cam.closed_form->translation_mm, 1) + " mm, " +
+              Fixed(cam.closed_form->rotation_deg, 2) + "°; threshold " +
+              Fixed(warn.max_closed_form_disagreement_px, 0) + " px); " +
+              (cause.empty()
+                   ? "the closed forms disagree among themselves too: check this camera's "
+                     "robot poses and views"
+                   : cause)));
     }
   }
   return warnings;
@@ -226,8 +254,9 @@ RobotMotions CollectRobotMotions(const Problem& problem, const std::vector<int>&
   RobotMotions motions;
   for (size_t a = 0; a < views.size(); ++a)
     for (size_t b = a + 1; b < views.size(); ++b) {
-      const Eigen::Matrix3d R = problem.T_mount_holder[problem.views[views[a]].pose].rotation().transpose() *
-                                problem.T_mount_holder[problem.views[views[b]].pose].rotation();
+      const Eigen::Matrix3d R =
+          problem.T_mount_holder[problem.views[views[a]].pose].rotation().transpose() *
+          problem.T_mount_holder[problem.views[views[b]].pose].rotation();
       const Eigen::Vector3d rv = RotationVectorFromMatrix(R);
       const double angle = rv.norm();
       motions.largest_deg = std::max(motions.largest_deg, angle * kRadToDeg);
@@ -256,7 +285,8 @@ AxzbOfView Axzb(const Eigen::Isometry3d& T_cam_target_pnp, const Eigen::Isometry
   const Eigen::Isometry3d AX = T_cam_target_pnp.inverse() * T_cam_mount;
   const Eigen::Isometry3d ZB = T_holder_target.inverse() * T_mount_holder.inverse();
   // The camera in its mount's frame, from the view and from the solution.
-  const Eigen::Isometry3d T_mount_cam_view = T_mount_holder * T_holder_target * T_cam_target_pnp.inverse();
+  const Eigen::Isometry3d T_mount_cam_view =
+      T_mount_holder * T_holder_target * T_cam_target_pnp.inverse();
   const Eigen::Isometry3d T_mount_cam = T_cam_mount.inverse();
   AxzbOfView out;
   out.target_frame_m = (AX.translation() - ZB.translation()).norm();
@@ -265,10 +295,10 @@ AxzbOfView Axzb(const Eigen::Isometry3d& T_cam_target_pnp, const Eigen::Isometry
   return out;
 }
 
-std::vector<Warning> DiagnoseSolution(const Problem& problem,
-                                      const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                                      const TargetPoses& T_holder_target, const CalibrationOptions& options,
-                                      CalibrationResult* result) {
+std::vector<Warning> DiagnoseSolution(
+    const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+    const TargetPoses& T_holder_target, const CalibrationOptions& options,
+    CalibrationResult* result) {
   const size_t n = problem.dataset->cameras.size();
   struct Sums {
     double sq = 0, axzb_target = 0, axzb_camera = 0, axzb_rotation = 0;
@@ -300,8 +330,8 @@ std::vector<Warning> DiagnoseSolution(const Problem& problem,
     cam.max_px = std::max(cam.max_px, vr.max_px);
     cam.outliers += vr.outlier ? 1 : 0;
     if (view.T_cam_target) {
-      const AxzbOfView axzb =
-          Axzb(*view.T_cam_target, *T_cam_mount[k], problem.T_mount_holder[view.pose], T_holder_target[k]);
+      const AxzbOfView axzb = Axzb(*view.T_cam_target, *T_cam_mount[k],
+                                   problem.T_mount_holder[view.pose], T_holder_target[k]);
       sums[k].axzb_target += axzb.target_frame_m;
       sums[k].axzb_camera += axzb.camera_frame_m;
       sums[k].axzb_rotation += axzb.rotation_rad;
@@ -330,13 +360,15 @@ std::vector<Warning> DiagnoseSolution(const Problem& problem,
     cam.axis_spread_deg = AxisSpreadDeg(motions.axes);
     cam.closed_form.reset();
     if (options.compare_closed_form && T_cam_mount[k])
-      cam.closed_form =
-          CompareWithClosedForm(problem, static_cast<int>(k), *T_cam_mount[k], T_holder_target[k], closed_form);
+      cam.closed_form = CompareWithClosedForm(problem, static_cast<int>(k), *T_cam_mount[k],
+                                              T_holder_target[k], closed_form);
   }
   result->metrics.rms_px = total.points ? std::sqrt(total.sq / total.points) : 0.0;
   result->metrics.axzb_translation_mm = axzb_views ? 1000.0 * total.axzb_target / axzb_views : 0.0;
-  result->metrics.axzb_camera_translation_mm = axzb_views ? 1000.0 * total.axzb_camera / axzb_views : 0.0;
-  result->metrics.axzb_rotation_deg = axzb_views ? kRadToDeg * total.axzb_rotation / axzb_views : 0.0;
+  result->metrics.axzb_camera_translation_mm =
+      axzb_views ? 1000.0 * total.axzb_camera / axzb_views : 0.0;
+  result->metrics.axzb_rotation_deg =
+      axzb_views ? kRadToDeg * total.axzb_rotation / axzb_views : 0.0;
   return QualityWarnings(problem, options, *result, T_cam_mount, T_holder_target);
 }
 
@@ -348,8 +380,8 @@ std::vector<Warning> Diagnose(const Dataset& dataset, const CalibrationOptions& 
                               CalibrationResult* result) {
   if (result->setup != dataset.setup)
     throw InputError("", "/setup",
-                     std::string("the result's setup to match the dataset's (result ") + SetupName(result->setup) +
-                         ", dataset " + SetupName(dataset.setup) + ")");
+                     std::string("the result's setup to match the dataset's (result ") +
+                         SetupName(result->setup) + ", dataset " + SetupName(dataset.setup) + ")");
   // The result's cameras in the dataset's order, with the intrinsics it used.
   Dataset working = dataset;
   std::vector<CameraResult> cameras;

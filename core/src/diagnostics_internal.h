@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "calibration_internal.h"
+#include "problem.h"
 
 namespace handeye::internal {
 
@@ -57,9 +57,9 @@ AxzbOfView Axzb(const Eigen::Isometry3d& T_cam_target_pnp, const Eigen::Isometry
 /// (T_cam_mount, T_holder_target), written into `result`, whose views (in problem.views order) and
 /// cameras exist already; the metrics too. Returns the warnings the
 /// thresholds in options.warn call for.
-std::vector<Warning> DiagnoseSolution(const Problem& problem,
-                                      const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                                      const TargetPoses& T_holder_target, const CalibrationOptions& options,
-                                      CalibrationResult* result);
+std::vector<Warning> DiagnoseSolution(
+    const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+    const TargetPoses& T_holder_target, const CalibrationOptions& options,
+    CalibrationResult* result);
 
 }  // namespace handeye::internal

@@ -12,11 +12,12 @@
 #include <sstream>
 
 #include "chain_problem.h"
+#include "cost_functions.h"
 #include "covariance.h"
 #include "diagnostics_internal.h"
-#include "cost_functions.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
+#include "problem.h"
 
 namespace handeye {
 

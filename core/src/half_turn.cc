@@ -6,9 +6,10 @@
 #include <algorithm>
 #include <map>
 
-#include "calibration_internal.h"
 #include "handeye/core/checkerboard.h"
 #include "handeye/core/transform.h"
+#include "problem.h"
+#include "view_consensus.h"
 
 namespace handeye::internal {
 namespace {

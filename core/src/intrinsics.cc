@@ -14,13 +14,14 @@
 #include <opencv2/calib3d.hpp>
 #include <sstream>
 
-#include "calibration_internal.h"
 #include "chain_problem.h"
+#include "cost_functions.h"
 #include "cost_jacobians.h"
 #include "covariance.h"
-#include "cost_functions.h"
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
+#include "intrinsics_internal.h"
+#include "problem.h"
 
 namespace handeye::internal {
 namespace {

@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "calibration_internal.h"
 #include "handeye/core/setup_frames.h"
 #include "plan_internal.h"
+#include "problem.h"
 
 namespace handeye::plan_internal {
 namespace {
@@ -23,7 +23,8 @@ constexpr int kTiltTries = 8;
 /// A rotation whose z axis is `forward` (unit), turned by `roll` about it.
 Eigen::Matrix3d LookRotation(const Eigen::Vector3d& forward, double roll) {
   const Eigen::Vector3d z = forward.normalized();
-  Eigen::Vector3d helper = std::abs(z.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+  Eigen::Vector3d helper =
+      std::abs(z.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
   const Eigen::Vector3d x = helper.cross(z).normalized();
   Eigen::Matrix3d R;
   R.col(0) = x;
@@ -32,8 +33,10 @@ Eigen::Matrix3d LookRotation(const Eigen::Vector3d& forward, double roll) {
   return R * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()).toRotationMatrix();
 }
 
-/// `direction` turned by a uniformly drawn angle up to `max_angle` about a random perpendicular axis.
-Eigen::Vector3d TurnedAtRandom(const Eigen::Vector3d& direction, double max_angle, std::mt19937_64* rng) {
+/// `direction` turned by a uniformly drawn angle up to `max_angle` about a random perpendicular
+/// axis.
+Eigen::Vector3d TurnedAtRandom(const Eigen::Vector3d& direction, double max_angle,
+                               std::mt19937_64* rng) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> normal(0.0, 1.0);
   Eigen::Vector3d axis(normal(*rng), normal(*rng), normal(*rng));
@@ -46,7 +49,8 @@ Eigen::Vector3d SheetCentreOf(const Target& target) {
   return Eigen::Vector3d(c.x(), c.y(), 0.0);
 }
 
-/// Where camera k sits in the base frame with the flange at `flange` (eye_in_hand: roughly, unturned).
+/// Where camera k sits in the base frame with the flange at `flange` (eye_in_hand: roughly,
+/// unturned).
 Eigen::Vector3d CameraPosition(const PlanCell& cell, int k, const Eigen::Vector3d& flange) {
   const Eigen::Vector3d t = cell.cameras[k].T_mount_cam.translation();
   return cell.setup == Setup::kEyeToHand ? t : flange;
@@ -71,21 +75,24 @@ int Neighbour(const PlanCell& cell, int k, const Eigen::Vector3d& point) {
 
 /// One candidate with the flange at `flange`, turned towards camera k (and
 /// perhaps a neighbour) with a random offset and roll.
-Eigen::Isometry3d AimedPose(const PlanCell& cell, const Eigen::Vector3d& flange, int k, std::mt19937_64* rng) {
+Eigen::Isometry3d AimedPose(const PlanCell& cell, const Eigen::Vector3d& flange, int k,
+                            std::mt19937_64* rng) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double roll = 2.0 * M_PI * unit(*rng);
   Eigen::Isometry3d T_base_ee = Eigen::Isometry3d::Identity();
   T_base_ee.translation() = flange;
   if (cell.setup == Setup::kEyeToHand) {
     Eigen::Vector3d face = (CameraPosition(cell, k, flange) - flange).normalized();
-    if (unit(*rng) < 0.5) face += (CameraPosition(cell, Neighbour(cell, k, flange), flange) - flange).normalized();
+    if (unit(*rng) < 0.5)
+      face += (CameraPosition(cell, Neighbour(cell, k, flange), flange) - flange).normalized();
     face = TurnedAtRandom(face.normalized(), kMaxAimOffsetDeg * kDeg, rng);
     // The print faces the camera: the target's z axis points away from it.
     const Eigen::Matrix3d R_base_target = LookRotation(-face, roll);
     T_base_ee.linear() = R_base_target * cell.T_holder_target.linear().transpose();
   } else {
     const Eigen::Vector3d centre = cell.T_holder_target * SheetCentreOf(*cell.target);
-    const Eigen::Vector3d forward = TurnedAtRandom((centre - flange).normalized(), 0.5 * kMaxAimOffsetDeg * kDeg, rng);
+    const Eigen::Vector3d forward =
+        TurnedAtRandom((centre - flange).normalized(), 0.5 * kMaxAimOffsetDeg * kDeg, rng);
     const Eigen::Matrix3d R_base_cam = LookRotation(forward, roll);
     T_base_ee.linear() = R_base_cam * cell.cameras[k].T_mount_cam.linear().transpose();
   }
@@ -97,7 +104,8 @@ bool Sees(const Model& model, int k, const Eigen::Isometry3d& T_base_ee) {
   const PlanCell& cell = *model.cell;
   const Camera& camera = cell.cameras[k].camera;
   const Eigen::Isometry3d T_cam_target = FromPoseParams(model.T_cam_mount[k].data()) *
-                                         FramesOf(cell.setup).MountFromHolder(T_base_ee) * cell.T_holder_target;
+                                         FramesOf(cell.setup).MountFromHolder(T_base_ee) *
+                                         cell.T_holder_target;
   // The print is seen from the target's -z side (target.h).
   if (T_cam_target.inverse().translation().z() >= 0) return false;
   std::vector<Eigen::Vector3d> p_target;
@@ -114,7 +122,8 @@ bool Sees(const Model& model, int k, const Eigen::Isometry3d& T_base_ee) {
     farthest = std::max(farthest, p_cam.z());
   }
   // The spacing of neighbouring points at the far end, foreshortened by the tilt.
-  const double square_px = std::min(camera.fx(), camera.fy()) * model.point_spacing_m * std::cos(angle) / farthest;
+  const double square_px =
+      std::min(camera.fx(), camera.fy()) * model.point_spacing_m * std::cos(angle) / farthest;
   return square_px >= cell.constraints.min_square_px;
 }
 
@@ -155,7 +164,8 @@ std::vector<Eigen::Isometry3d> DrawCandidates(const Model& model, int count, std
 namespace handeye {
 
 bool InRegion(const PlanRegion& region, const Eigen::Isometry3d& T_base_ee) {
-  const double c = std::clamp(T_base_ee.linear().col(2).dot(region.tilt_axis.normalized()), -1.0, 1.0);
+  const double c =
+      std::clamp(T_base_ee.linear().col(2).dot(region.tilt_axis.normalized()), -1.0, 1.0);
   if (region.max_tilt_rad < M_PI && std::acos(c) > region.max_tilt_rad + 1e-9) return false;
   if (!region.box) return true;
   // Taught poses are reachable by definition.

@@ -16,14 +16,17 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "calibration_internal.h"
 #include "chain_problem.h"
+#include "closed_form.h"
 #include "consider_covariance.h"
 #include "cost_functions.h"
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
+#include "intrinsics_internal.h"
+#include "problem.h"
 #include "refine_internal.h"
+#include "refinement.h"
 
 namespace handeye::internal {
 namespace {

@@ -9,7 +9,9 @@
 #include <cmath>
 
 #include "covariance.h"
+#include "problem.h"
 #include "refine_internal.h"
+#include "refinement.h"
 
 namespace handeye::internal {
 

@@ -11,9 +11,10 @@
 #include <optional>
 #include <vector>
 
-#include "calibration_internal.h"
 #include "consider_covariance.h"
 #include "cost_functions.h"
+#include "problem.h"
+#include "refinement.h"
 
 namespace handeye::internal {
 

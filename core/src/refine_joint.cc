@@ -11,8 +11,12 @@
 #include <memory>
 
 #include "chain_problem.h"
+#include "closed_form.h"
 #include "cost_functions.h"
+#include "intrinsics_internal.h"
+#include "problem.h"
 #include "refine_internal.h"
+#include "refinement.h"
 
 namespace handeye::internal {
 namespace {

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "handeye/core/error.h"
+#include "problem.h"
 #include "setup_mistakes.h"
 
 namespace handeye::internal {

@@ -4,9 +4,11 @@
 #include <array>
 #include <cmath>
 
-#include "calibration_internal.h"
+#include "closed_form.h"
 #include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
+#include "problem.h"
+#include "refinement.h"
 
 namespace handeye::internal {
 namespace {

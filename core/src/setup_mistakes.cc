@@ -10,10 +10,12 @@
 #include <limits>
 #include <sstream>
 
+#include "closed_form.h"
 #include "diagnostics_internal.h"
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
+#include "problem.h"
 
 namespace handeye::internal {
 namespace {
@@ -380,18 +382,18 @@ void CheckRobotSigma(const RobotPrior& robot) {
   const double sigma_rad = robot.settled_sigma_rad > 0 ? robot.settled_sigma_rad : robot.sigma_rad;
   const double mm = sigma_m * 1000.0, deg = sigma_rad / kDeg;
   if (mm <= kMaxRobotSigmaMm && deg <= kMaxRobotSigmaDeg) return;
-  throw SolveError("the robot's own pose error would have to be σ " + Fixed(mm, 2) + " mm and " +
-                   Fixed(deg, 3) +
-                   " deg per axis to explain the views: more than any industrial robot (" +
-                   Fixed(kMaxRobotSigmaMm, 0) + " mm, " + Fixed(kMaxRobotSigmaDeg, 1) +
-                   " deg). A misfit that large is a setup mistake or intrinsics that do not fit "
-                   "the images: robot poses in another frame, order or unit than declared, images "
-                   "that do not belong to their poses, the wrong target size, or a lens model the "
-                   "images do not follow (none of the usual setup mistakes explains it on its own). "
-                   "Check the dataset; to see whether the intrinsics explain it, rerun with "
-                   "--refine-intrinsics focal,principal_point (or all); to solve with the robot "
-                   "taken as exact, --robot-sigma-mm 0 --robot-sigma-deg 0; to calibrate the data "
-                   "as they are, --accept-setup");
+  throw SolveError(
+      "the robot's own pose error would have to be σ " + Fixed(mm, 2) + " mm and " + Fixed(deg, 3) +
+      " deg per axis to explain the views: more than any industrial robot (" +
+      Fixed(kMaxRobotSigmaMm, 0) + " mm, " + Fixed(kMaxRobotSigmaDeg, 1) +
+      " deg). A misfit that large is a setup mistake or intrinsics that do not fit "
+      "the images: robot poses in another frame, order or unit than declared, images "
+      "that do not belong to their poses, the wrong target size, or a lens model the "
+      "images do not follow (none of the usual setup mistakes explains it on its own). "
+      "Check the dataset; to see whether the intrinsics explain it, rerun with "
+      "--refine-intrinsics focal,principal_point (or all); to solve with the robot "
+      "taken as exact, --robot-sigma-mm 0 --robot-sigma-deg 0; to calibrate the data "
+      "as they are, --accept-setup");
 }
 
 }  // namespace handeye::internal

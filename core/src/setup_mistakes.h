@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "calibration_internal.h"
+#include "problem.h"
 
 namespace handeye::internal {
 

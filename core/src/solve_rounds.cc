@@ -6,9 +6,12 @@
 #include <cmath>
 #include <sstream>
 
-#include "calibration_internal.h"
+#include "closed_form.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
+#include "problem.h"
+#include "refinement.h"
+#include "view_consensus.h"
 
 namespace handeye::internal {
 namespace {
@@ -56,17 +59,19 @@ Refinement RobustSolve(Problem* problem, const CalibrationOptions& options, doub
     if (3 * static_cast<int>(off.size()) > used_before) {
       // So many views cannot all be bad records: the model itself (intrinsics,
       // target size) or the robot poses as a whole are off. Keep them and say so.
-      warnings->push_back(GeneralWarning(WarningKind::kManyViewsOff,
-                                         std::to_string(off.size()) + " of " + std::to_string(used) +
-                                             " views lie far outside the residuals of the others; they were kept: "
-                                             "check the intrinsics, the target's size and the robot pose units"));
+      warnings->push_back(
+          GeneralWarning(WarningKind::kManyViewsOff,
+                         std::to_string(off.size()) + " of " + std::to_string(used) +
+                             " views lie far outside the residuals of the others; they were kept: "
+                             "check the intrinsics, the target's size and the robot pose units"));
       off.clear();
     }
     for (int v : off) {
       View& view = problem->views[v];
       double max_px = 0;
-      const double rms =
-          ViewRms(ViewErrors(*problem, view, *refined.T_cam_mount[view.camera], T_holder_target[view.camera]), &max_px);
+      const double rms = ViewRms(ViewErrors(*problem, view, *refined.T_cam_mount[view.camera],
+                                            T_holder_target[view.camera]),
+                                 &max_px);
       std::ostringstream why;
       why.precision(3);
       why << "it disagrees with the calibration of the other views (RMS " << rms
@@ -77,7 +82,9 @@ Refinement RobustSolve(Problem* problem, const CalibrationOptions& options, doub
     }
     if (!off.empty()) IndexUsedViews(problem);
     double new_scale = scale;
-    if (!fixed_scale) new_scale = std::max(1.0, 3.0 * ResidualSigmaPx(*problem, refined.T_cam_mount, T_holder_target));
+    if (!fixed_scale)
+      new_scale =
+          std::max(1.0, 3.0 * ResidualSigmaPx(*problem, refined.T_cam_mount, T_holder_target));
     const bool scale_settled = std::abs(new_scale - scale) <= 0.1 * scale;
     if ((off.empty() && scale_settled) || round == kMaxRounds) {
       total.rounds = round;
@@ -116,7 +123,8 @@ void CrossValidate(const Problem& problem, const Initialisation& init,
     for (int v : views_at_pose[j]) {
       const View& view = problem.views[v];
       if (!r.T_cam_mount[view.camera]) continue;
-      for (double e : ViewErrors(problem, view, *r.T_cam_mount[view.camera], r.T_holder_target[0])) {
+      for (double e :
+           ViewErrors(problem, view, *r.T_cam_mount[view.camera], r.T_holder_target[0])) {
         sq[view.camera] += e * e;
         ++points[view.camera];
       }

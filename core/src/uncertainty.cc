@@ -7,13 +7,13 @@
 
 #include <memory>
 
-#include "calibration_internal.h"
 #include "chain_problem.h"
-#include "covariance.h"
 #include "cost_functions.h"
+#include "covariance.h"
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
+#include "problem.h"
 
 namespace handeye {
 namespace internal {

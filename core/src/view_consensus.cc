@@ -2,14 +2,17 @@
 // Views that do not fit the consensus of the others: the robot-motion vote
 // before any estimate, the residual check after a solve, and the warnings
 // that name robot poses whose record does not belong to their images.
+#include "view_consensus.h"
+
 #include <algorithm>
 #include <cmath>
 #include <set>
 #include <sstream>
 
-#include "calibration_internal.h"
 #include "cost_jacobians.h"
 #include "handeye/core/transform.h"
+#include "problem.h"
+#include "refinement.h"
 
 namespace handeye::internal {
 namespace {
@@ -32,7 +35,8 @@ struct PnpNoise {
   double position_m2 = 0;  ///< the centre's, all three axes together (along the ray the most)
 };
 
-PnpNoise PnpNoiseOf(const View& view, const Camera& camera, const Eigen::Vector3d& centre, double sigma_px) {
+PnpNoise PnpNoiseOf(const View& view, const Camera& camera, const Eigen::Vector3d& centre,
+                    double sigma_px) {
   Eigen::Matrix<double, 6, 6> JtJ = Eigen::Matrix<double, 6, 6>::Zero();
   const Eigen::Isometry3d& T = *view.T_cam_target;
   for (const Eigen::Vector3d& p : view.p_target) {
@@ -91,10 +95,11 @@ struct MotionMismatch {
 };
 
 /// View a, seen at T_cam_target_a, against view b.
-MotionMismatch Compare(const Problem& problem, const View& a, const Eigen::Isometry3d& T_cam_target_a,
-                       const View& b) {
+MotionMismatch Compare(const Problem& problem, const View& a,
+                       const Eigen::Isometry3d& T_cam_target_a, const View& b) {
   const Screw seen = ScrewOf(T_cam_target_a * b.T_cam_target->inverse());
-  const Screw moved = ScrewOf(problem.T_mount_holder[a.pose] * problem.T_mount_holder[b.pose].inverse());
+  const Screw moved =
+      ScrewOf(problem.T_mount_holder[a.pose] * problem.T_mount_holder[b.pose].inverse());
   MotionMismatch m;
   m.angle_rad = std::abs(seen.angle_rad - moved.angle_rad);
   if (seen.angle_rad > kMinAngleForPitch && moved.angle_rad > kMinAngleForPitch)
@@ -109,7 +114,8 @@ std::vector<double> PointErrors(const Problem& problem,
   std::vector<double> errors;
   for (const View& view : problem.views) {
     if (!view.used || !T_cam_mount[view.camera]) continue;
-    const auto e = ViewErrors(problem, view, *T_cam_mount[view.camera], T_holder_target[view.camera]);
+    const auto e =
+        ViewErrors(problem, view, *T_cam_mount[view.camera], T_holder_target[view.camera]);
     errors.insert(errors.end(), e.begin(), e.end());
   }
   return errors;
@@ -127,7 +133,8 @@ Eigen::Vector3d TargetCentre(const Target& target) {
 void IndexUsedViews(Problem* problem) {
   for (auto& views : problem->camera_views) views.clear();
   for (size_t i = 0; i < problem->views.size(); ++i)
-    if (problem->views[i].used) problem->camera_views[problem->views[i].camera].push_back(static_cast<int>(i));
+    if (problem->views[i].used)
+      problem->camera_views[problem->views[i].camera].push_back(static_cast<int>(i));
 }
 
 int RejectInconsistentMotions(Problem* problem) {
@@ -223,9 +230,9 @@ int RejectInconsistentMotions(Problem* problem) {
   return rejected;
 }
 
-std::vector<int> ViewsOffTheSolution(const Problem& problem,
-                                     const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                                     const TargetPoses& T_holder_target) {
+std::vector<int> ViewsOffTheSolution(
+    const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+    const TargetPoses& T_holder_target) {
   const size_t n = problem.camera_views.size();
   std::vector<double> rms(problem.views.size(), 0.0);
   std::vector<std::vector<double>> per_camera(n);
@@ -255,19 +262,24 @@ std::vector<int> ViewsOffTheSolution(const Problem& problem,
   return off;
 }
 
-double ResidualSigmaPx(const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+double ResidualSigmaPx(const Problem& problem,
+                       const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
                        const TargetPoses& T_holder_target) {
   // The norm of a 2D Gaussian residual of σ per axis has median σ·√(2 ln 2).
-  return Median(PointErrors(problem, T_cam_mount, T_holder_target)) / std::sqrt(2.0 * std::log(2.0));
+  return Median(PointErrors(problem, T_cam_mount, T_holder_target)) /
+         std::sqrt(2.0 * std::log(2.0));
 }
 
-void ExplainInconsistentViews(Problem* problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+void ExplainInconsistentViews(Problem* problem,
+                              const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
                               const TargetPoses& T_holder_target) {
   for (View& view : problem->views) {
     if (!view.inconsistent || !view.T_cam_target || !T_cam_mount[view.camera]) continue;
     // The target pose the view's PnP found, in the target frame the chain predicts.
     const Eigen::Isometry3d T_predicted_seen =
-        (*T_cam_mount[view.camera] * problem->T_mount_holder[view.pose] * T_holder_target[view.camera]).inverse() *
+        (*T_cam_mount[view.camera] * problem->T_mount_holder[view.pose] *
+         T_holder_target[view.camera])
+            .inverse() *
         *view.T_cam_target;
     const Eigen::Vector3d rotvec = RotationVectorFromMatrix(T_predicted_seen.rotation());
     const double angle = rotvec.norm();
@@ -289,19 +301,20 @@ double DetectionSigmaPx(const Problem& problem) {
   return std::max(Median(sigmas), 1e-3);
 }
 
-std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
-                                             const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                                             const TargetPoses& T_holder_target) {
+std::optional<RobotPrior> EstimateRobotPrior(
+    const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+    const TargetPoses& T_holder_target) {
   const Dataset& dataset = *problem.dataset;
   const Eigen::Vector3d centre = TargetCentre(*dataset.target);
   const double pixel_sigma_px = DetectionSigmaPx(problem);
   std::vector<double> chain_rms, pnp_rms, across_m, angle_rad, pnp_across_m2, pnp_rotation_rad2;
   for (const View& view : problem.views) {
     if (!view.used || !T_cam_mount[view.camera]) continue;
-    chain_rms.push_back(ViewRms(ViewErrors(problem, view, *T_cam_mount[view.camera], T_holder_target[view.camera])));
+    chain_rms.push_back(ViewRms(
+        ViewErrors(problem, view, *T_cam_mount[view.camera], T_holder_target[view.camera])));
     pnp_rms.push_back(view.pnp_rms_px);
-    const Eigen::Isometry3d chain =
-        *T_cam_mount[view.camera] * problem.T_mount_holder[view.pose] * T_holder_target[view.camera];
+    const Eigen::Isometry3d chain = *T_cam_mount[view.camera] * problem.T_mount_holder[view.pose] *
+                                    T_holder_target[view.camera];
     // Across the viewing ray PnP locates the target well; along it, poorly.
     const Eigen::Vector3d offset = chain * centre - *view.T_cam_target * centre;
     const Eigen::Vector3d ray = (*view.T_cam_target * centre).normalized();
@@ -325,22 +338,24 @@ std::optional<RobotPrior> EstimateRobotPrior(const Problem& problem,
   const auto beyond_pnp = [](double seen_sigma, double pnp_variance) {
     return std::sqrt(std::max(0.0, seen_sigma * seen_sigma - pnp_variance));
   };
-  prior.sigma_rad = std::max(beyond_pnp(Median(angle_rad) / 1.5382, Median(pnp_rotation_rad2)), 1e-5 * kDeg);
+  prior.sigma_rad =
+      std::max(beyond_pnp(Median(angle_rad) / 1.5382, Median(pnp_rotation_rad2)), 1e-5 * kDeg);
   // With few views per camera, T_cam_mount absorbs the flange's displacements across
   // the rays, which then look smaller than they are. A robot's pose error
   // comes from its joints, whose angle errors move the flange by about the
   // rotation error times the reach: the larger of the two.
   std::vector<double> reach_m;
-  for (const RobotPose& pose : dataset.poses) reach_m.push_back(pose.T_base_ee.translation().norm());
-  prior.sigma_m =
-      std::max({beyond_pnp(Median(across_m) / 1.1774, Median(pnp_across_m2)), prior.sigma_rad * Median(reach_m), 1e-5});
+  for (const RobotPose& pose : dataset.poses)
+    reach_m.push_back(pose.T_base_ee.translation().norm());
+  prior.sigma_m = std::max({beyond_pnp(Median(across_m) / 1.1774, Median(pnp_across_m2)),
+                            prior.sigma_rad * Median(reach_m), 1e-5});
   prior.pixel_sigma_px = pixel_sigma_px;
   return prior;
 }
 
-std::vector<Warning> PoseRecordWarnings(const Problem& problem,
-                                        const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                                        const TargetPoses& T_holder_target) {
+std::vector<Warning> PoseRecordWarnings(
+    const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+    const TargetPoses& T_holder_target) {
   const Dataset& dataset = *problem.dataset;
   const Eigen::Vector3d centre = TargetCentre(*dataset.target);
   std::vector<Warning> warnings;
@@ -361,18 +376,23 @@ std::vector<Warning> PoseRecordWarnings(const Problem& problem,
       if (!T_cam_mount[view->camera]) continue;
       // Where the robot record puts the target, against where the camera saw
       // it, both in the camera's mount frame.
-      const Eigen::Vector3d by_robot = problem.T_mount_holder[j] * T_holder_target[view->camera] * centre;
-      const Eigen::Vector3d by_camera = T_cam_mount[view->camera]->inverse() * *view->T_cam_target * centre;
+      const Eigen::Vector3d by_robot =
+          problem.T_mount_holder[j] * T_holder_target[view->camera] * centre;
+      const Eigen::Vector3d by_camera =
+          T_cam_mount[view->camera]->inverse() * *view->T_cam_target * centre;
       sum_mm += 1000.0 * (by_robot - by_camera).norm();
       ++measured;
     }
     std::ostringstream warning;
     warning << "pose " << dataset.poses[j].id << ": its robot record disagrees with "
-            << (seen.size() == 1 ? "its only view" : seen.size() == 2 ? "both views" : "every view")
+            << (seen.size() == 1   ? "its only view"
+                : seen.size() == 2 ? "both views"
+                                   : "every view")
             << " (" << cameras << ")";
     if (measured) warning << " by ≈ " << std::lround(sum_mm / measured) << " mm";
     warning << ": the image and the pose likely do not belong together; its views were left out";
-    warnings.push_back(PoseWarning(WarningKind::kPoseRecordMismatch, dataset.poses[j].id, warning.str()));
+    warnings.push_back(
+        PoseWarning(WarningKind::kPoseRecordMismatch, dataset.poses[j].id, warning.str()));
   }
   return warnings;
 }

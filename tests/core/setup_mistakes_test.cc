@@ -5,6 +5,8 @@
 // The internal header brings Ceres and with it glog, whose CHECK must give
 // way to Catch's.
 #include "setup_mistakes.h"
+
+#include "problem.h"
 #undef CHECK
 #include <catch2/catch.hpp>
 #include <functional>
@@ -208,7 +210,8 @@ TEST_CASE("A robot error beyond any real robot's is refused unless the data are 
   CHECK(result.solver.robot_sigma_mm > 5.0);
 }
 
-TEST_CASE("calibrate with --accept-setup takes a mistaken dataset as it is", "[calibration][setup]") {
+TEST_CASE("calibrate with --accept-setup takes a mistaken dataset as it is",
+          "[calibration][setup]") {
   SyntheticScene scene = Scene(Setup::kEyeToHand, 13);
   ForEachPose(&scene.dataset,
               [](Eigen::Isometry3d* T) { T->linear() = T->linear().transpose().eval(); });
