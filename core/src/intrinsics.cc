@@ -310,6 +310,113 @@ Camera EstimateIntrinsics(const Dataset& dataset, int k) {
   return *estimated;
 }
 
+namespace {
+
+/// What one camera's views say of its fx, fy, cx, cy: the chain solved
+/// with them free (and, with the robot's error modelled, a block per pose
+/// under its prior, as in the joint solve: a pose's error moves all points of
+/// its view together, which the per-point residuals alone would count as
+/// independent evidence: σ too small, false alarms).
+struct SeenIntrinsics {
+  std::array<double, 4> K{}, sigma{};                 // fx, fy, cx, cy and their 1σ
+  Eigen::Matrix<double, 4, 4, Eigen::RowMajor> C_KK;  // their tangent covariance
+  Eigen::Matrix<double, 6, 4, Eigen::RowMajor> C_xK;  // with the camera pose tangent
+  PoseParams T_cam_mount{};                           // the camera as they place it
+};
+
+std::optional<SeenIntrinsics> SeeIntrinsics(const Problem& problem, size_t k,
+                                            const Eigen::Isometry3d& T_cam_mount,
+                                            const Eigen::Isometry3d& T_holder_target,
+                                            double cauchy_scale_px,
+                                            const std::optional<RobotPrior>& robot) {
+  const Dataset& dataset = *problem.dataset;
+  const Camera& camera = dataset.cameras[k];
+  ChainProblem chain(2 + problem.camera_views[k].size(), 1);
+  ceres::Problem& ceres_problem = chain.problem();
+  double* T_cam_mount_k = chain.AddPose(T_cam_mount);
+  double* T_holder_target_k = chain.AddPose(T_holder_target);
+  static const std::vector<int> kFocalAndCentre = {0, 1, 2, 3};  // fx, fy, cx, cy
+  double* K = chain.AddIntrinsics(camera.params, kFocalAndCentre);
+  std::vector<ceres::ResidualBlockId> view_blocks;
+  for (int v : problem.camera_views[k]) {
+    const View& view = problem.views[v];
+    auto points =
+        std::make_shared<const ViewPoints>(ViewPoints{view.p_target, view.observation->points_px});
+    if (robot) {
+      double* T_mount_holder_j = chain.AddRobotPose(
+          problem.T_mount_holder[view.pose], dataset.poses[view.pose], dataset.setup, *robot);
+      view_blocks.push_back(ceres_problem.AddResidualBlock(
+          ViewReprojectionWithRobotError::Create(camera, std::move(points), cauchy_scale_px, true),
+          nullptr, {T_cam_mount_k, T_mount_holder_j, T_holder_target_k, K}));
+    } else {
+      view_blocks.push_back(ceres_problem.AddResidualBlock(
+          ViewReprojectionError::Create(camera, problem.T_mount_holder[view.pose],
+                                        std::move(points), cauchy_scale_px, true),
+          nullptr, T_cam_mount_k, T_holder_target_k, K));
+    }
+  }
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = robot ? ceres::SPARSE_NORMAL_CHOLESKY : ceres::DENSE_QR;
+  solver.max_num_iterations = 50;
+  solver.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &ceres_problem, &summary);
+  if (summary.termination_type == ceres::FAILURE) return std::nullopt;
+  const BlockCovariance covariance(&ceres_problem, {{K, K}, {T_cam_mount_k, K}},
+                                   robot ? ceres::SPARSE_QR : ceres::DENSE_SVD);
+  if (!covariance.ok()) return std::nullopt;
+  const Eigen::MatrixXd C = covariance.Ambient(K, K);
+  const double variance_factor = VarianceFactor(&ceres_problem, view_blocks);
+  SeenIntrinsics seen;
+  for (int p = 0; p < 4; ++p) {
+    seen.K[p] = K[p];
+    seen.sigma[p] = std::sqrt(std::max(0.0, C(p, p)) * variance_factor);
+  }
+  seen.C_KK = covariance.Tangent(K, K);
+  seen.C_xK = covariance.Tangent(T_cam_mount_k, K);
+  std::copy(T_cam_mount_k, T_cam_mount_k + seen.T_cam_mount.size(), seen.T_cam_mount.begin());
+  return seen;
+}
+
+/// The warning for a camera whose views find its given focal length
+/// (`focal_off`) or principal point (`centre_off`) off by `delta` (seen −
+/// given); `moved`: where the given values put the camera against the views'.
+std::string IntrinsicsOffText(const Camera& camera, const SeenIntrinsics& seen,
+                              const std::array<double, 4>& delta, bool focal_off, bool centre_off,
+                              const Eigen::Matrix<double, 6, 1>& moved) {
+  const std::array<double, 4>& K = seen.K;
+  const std::array<double, 4>& sigma = seen.sigma;
+  std::ostringstream w;
+  w << std::fixed;
+  w.precision(1);
+  w << "camera '" << camera.name << "': the images suggest ";
+  std::vector<std::string> groups;
+  if (focal_off) {
+    const double percent =
+        100.0 * std::max(std::abs(delta[0]) / camera.fx(), std::abs(delta[1]) / camera.fy());
+    w << "fx, fy ≈ " << K[0] << ", " << K[1] << " (± " << std::max(sigma[0], sigma[1]) << " px), "
+      << percent << " % from the given values";
+    groups.push_back("focal");
+  }
+  if (centre_off) {
+    if (focal_off) w << ", and ";
+    w.precision(2);
+    w << "cx, cy ≈ " << K[2] << ", " << K[3] << " (± " << std::max(sigma[2], sigma[3]) << " px), "
+      << std::hypot(delta[2], delta[3]) << " px from the given values";
+    if (std::abs(delta[2] + 1.0) < 0.35 && std::abs(delta[3] + 1.0) < 0.35)
+      w << "; a 1-based principal point?";
+    groups.push_back("principal_point");
+  }
+  const std::string text = w.str();
+  if (text.back() != '?') w << ";";
+  w << " rerun with --refine-intrinsics " << groups[0] << (groups.size() > 1 ? "," + groups[1] : "")
+    << " (the given values move the camera by ≈ " << std::setprecision(2)
+    << MovedMm(seen.T_cam_mount.data(), moved) << " mm, which its sigma includes)";
+  return w.str();
+}
+
+}  // namespace
+
 std::vector<Warning> IntrinsicsWarnings(
     const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
     const TargetPoses& T_holder_target, double cauchy_scale_px, const std::vector<unsigned>& check,
@@ -320,53 +427,13 @@ std::vector<Warning> IntrinsicsWarnings(
     if (k >= check.size() || !check[k] || !T_cam_mount[k] || problem.camera_views[k].size() < 3)
       continue;
     const Camera& camera = dataset.cameras[k];
-    ChainProblem chain(2 + problem.camera_views[k].size(), 1);
-    ceres::Problem& ceres_problem = chain.problem();
-    double* T_cam_mount_k = chain.AddPose(*T_cam_mount[k]);
-    double* T_holder_target_k = chain.AddPose(T_holder_target[k]);
-    double* K = chain.AddIntrinsics(camera.params, {0, 1, 2, 3});
-    // With the robot's pose error modelled, each pose is a block under its
-    // prior, as in the joint solve: a pose's error moves all points of its
-    // view together, which the per-point residuals alone would count as
-    // independent evidence (σ too small, false alarms).
-    std::vector<ceres::ResidualBlockId> view_blocks;
-    for (int v : problem.camera_views[k]) {
-      const View& view = problem.views[v];
-      auto points = std::make_shared<const ViewPoints>(
-          ViewPoints{view.p_target, view.observation->points_px});
-      if (robot) {
-        double* T_mount_holder_j = chain.AddRobotPose(
-            problem.T_mount_holder[view.pose], dataset.poses[view.pose], dataset.setup, *robot);
-        view_blocks.push_back(ceres_problem.AddResidualBlock(
-            ViewReprojectionWithRobotError::Create(camera, std::move(points), cauchy_scale_px,
-                                                   true),
-            nullptr, {T_cam_mount_k, T_mount_holder_j, T_holder_target_k, K}));
-      } else {
-        view_blocks.push_back(ceres_problem.AddResidualBlock(
-            ViewReprojectionError::Create(camera, problem.T_mount_holder[view.pose],
-                                          std::move(points), cauchy_scale_px, true),
-            nullptr, T_cam_mount_k, T_holder_target_k, K));
-      }
-    }
-    ceres::Solver::Options solver;
-    solver.linear_solver_type = robot ? ceres::SPARSE_NORMAL_CHOLESKY : ceres::DENSE_QR;
-    solver.max_num_iterations = 50;
-    solver.logging_type = ceres::SILENT;
-    ceres::Solver::Summary summary;
-    ceres::Solve(solver, &ceres_problem, &summary);
-    if (summary.termination_type == ceres::FAILURE) continue;
-    const BlockCovariance covariance(&ceres_problem, {{K, K}, {T_cam_mount_k, K}},
-                                     robot ? ceres::SPARSE_QR : ceres::DENSE_SVD);
-    if (!covariance.ok()) continue;
-    const Eigen::MatrixXd C = covariance.Ambient(K, K);
-    const double variance_factor = VarianceFactor(&ceres_problem, view_blocks);
-    double sigma[4], delta[4];
-    for (int p = 0; p < 4; ++p) {
-      sigma[p] = std::sqrt(std::max(0.0, C(p, p)) * variance_factor);
-      delta[p] = K[p] - camera.params[p];
-    }
+    const std::optional<SeenIntrinsics> seen =
+        SeeIntrinsics(problem, k, *T_cam_mount[k], T_holder_target[k], cauchy_scale_px, robot);
+    if (!seen) continue;
+    std::array<double, 4> delta;
+    for (int p = 0; p < 4; ++p) delta[p] = seen->K[p] - camera.params[p];
     auto off = [&](int p, double visible) {
-      return std::abs(delta[p]) > std::max(3.0 * sigma[p], visible);
+      return std::abs(delta[p]) > std::max(3.0 * seen->sigma[p], visible);
     };
     const bool focal_off =
         (check[k] & kFocal) && (off(0, 0.003 * camera.fx()) || off(1, 0.003 * camera.fy()));
@@ -375,44 +442,15 @@ std::vector<Warning> IntrinsicsWarnings(
     // Where the given values of the groups found off put the camera, against
     // the views' own: the conditional mean C_xK C_KK⁻¹ ΔK over fx, fy, cx, cy
     // (the subset manifold's tangent), the other group's ΔK 0.
-    Eigen::Matrix<double, 6, 1> moved = Eigen::Matrix<double, 6, 1>::Zero();
-    {
-      const Eigen::Matrix<double, 4, 4, Eigen::RowMajor> C_KK = covariance.Tangent(K, K);
-      const Eigen::Matrix<double, 6, 4, Eigen::RowMajor> C_xK =
-          covariance.Tangent(T_cam_mount_k, K);
-      Eigen::Vector4d given_minus_seen = Eigen::Vector4d::Zero();
-      for (int p = 0; p < 4; ++p)
-        if ((p < 2 && focal_off) || (p >= 2 && centre_off)) given_minus_seen[p] = -delta[p];
-      moved = C_xK * C_KK.ldlt().solve(given_minus_seen);
-    }
+    Eigen::Vector4d given_minus_seen = Eigen::Vector4d::Zero();
+    for (int p = 0; p < 4; ++p)
+      if ((p < 2 && focal_off) || (p >= 2 && centre_off)) given_minus_seen[p] = -delta[p];
+    const Eigen::Matrix<double, 6, 1> moved =
+        seen->C_xK * seen->C_KK.ldlt().solve(given_minus_seen);
     if (shift) (*shift)[k] = moved;
-    std::ostringstream w;
-    w << std::fixed;
-    w.precision(1);
-    w << "camera '" << camera.name << "': the images suggest ";
-    std::vector<std::string> groups;
-    if (focal_off) {
-      const double percent =
-          100.0 * std::max(std::abs(delta[0]) / camera.fx(), std::abs(delta[1]) / camera.fy());
-      w << "fx, fy ≈ " << K[0] << ", " << K[1] << " (± " << std::max(sigma[0], sigma[1]) << " px), "
-        << percent << " % from the given values";
-      groups.push_back("focal");
-    }
-    if (centre_off) {
-      if (focal_off) w << ", and ";
-      w.precision(2);
-      w << "cx, cy ≈ " << K[2] << ", " << K[3] << " (± " << std::max(sigma[2], sigma[3]) << " px), "
-        << std::hypot(delta[2], delta[3]) << " px from the given values";
-      if (std::abs(delta[2] + 1.0) < 0.35 && std::abs(delta[3] + 1.0) < 0.35)
-        w << "; a 1-based principal point?";
-      groups.push_back("principal_point");
-    }
-    const std::string text = w.str();
-    if (text.back() != '?') w << ";";
-    w << " rerun with --refine-intrinsics " << groups[0]
-      << (groups.size() > 1 ? "," + groups[1] : "") << " (the given values move the camera by ≈ "
-      << std::setprecision(2) << MovedMm(T_cam_mount_k, moved) << " mm, which its sigma includes)";
-    warnings.push_back(CameraWarning(WarningKind::kIntrinsicsOff, camera.name, w.str()));
+    warnings.push_back(
+        CameraWarning(WarningKind::kIntrinsicsOff, camera.name,
+                      IntrinsicsOffText(camera, *seen, delta, focal_off, centre_off, moved)));
   }
   return warnings;
 }
