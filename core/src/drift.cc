@@ -46,6 +46,97 @@ bool DriftResult::AnyNotAssessed() const {
   return false;
 }
 
+namespace {
+
+/// The camera's pose from its new views alone (`views` of `problem`),
+/// started at the calibrated one, how far it moved and the noise of that
+/// difference: the new estimate's σ and the calibration's own.
+void EstimateAgain(const internal::Problem& problem, int k, const std::vector<int>& views,
+                   const CameraResult& cam, const Eigen::Isometry3d& T_holder_target, int threads,
+                   CameraDrift* drift_out) {
+  const Dataset& dataset = *problem.dataset;
+  CameraDrift& drift = *drift_out;
+  internal::ChainProblem chain(2, 0);
+  ceres::Problem& ceres_problem = chain.problem();
+  double* T_cam_mount = chain.AddPose(cam.T_cam.inverse());
+  double* T_holder_target_block = chain.AddPose(T_holder_target, true);
+  const double scale = std::max(1.0, 3.0 * internal::DetectionSigmaPx(problem));
+  std::vector<ceres::ResidualBlockId> blocks;
+  for (int v : views) {
+    const internal::View& view = problem.views[v];
+    blocks.push_back(ceres_problem.AddResidualBlock(
+        ViewReprojectionError::Create(dataset.cameras[k], problem.T_mount_holder[view.pose],
+                                      std::make_shared<const ViewPoints>(
+                                          ViewPoints{view.p_target, view.observation->points_px}),
+                                      scale),
+        nullptr, T_cam_mount, T_holder_target_block));
+  }
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.max_num_iterations = 100;
+  solver.num_threads = threads;
+  solver.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &ceres_problem, &summary);
+  const Eigen::Isometry3d T_cam_mount_now = internal::ChainProblem::Pose(T_cam_mount);
+  drift.T_cam = T_cam_mount_now.inverse();
+  drift.estimated = true;
+  const internal::PoseDifference moved = internal::DifferenceOf(drift.T_cam, cam.T_cam);
+  drift.moved_mm = moved.translation_mm;
+  drift.moved_deg = moved.rotation_deg;
+  const internal::BlockCovariance covariance(&ceres_problem, {{T_cam_mount, T_cam_mount}},
+                                             ceres::DENSE_SVD);
+  if (covariance.ok()) {
+    const Eigen::Matrix<double, 6, 6> C = covariance.Tangent(T_cam_mount, T_cam_mount);
+    const double variance_factor = internal::VarianceFactor(&ceres_problem, blocks);
+    const PoseUncertainty u = internal::UncertaintyOf(T_cam_mount_now, C * variance_factor, true);
+    // The difference of two estimates: the new one and the calibration's
+    // own, less what the given intrinsics' uncertainty adds to it: the new
+    // views go through the same intrinsics, and their error moves both alike.
+    const double calibrated_mm = cam.sigma ? cam.sigma->OwnPositionMm() : 0.0;
+    const double calibrated_deg = cam.sigma ? cam.sigma->OwnRotationDeg() : 0.0;
+    drift.sigma_mm = std::hypot(u.position_mm, calibrated_mm);
+    drift.sigma_deg = std::hypot(u.rotation_deg, calibrated_deg);
+  }
+}
+
+/// The verdict on a re-estimated camera, and the warning when it cannot tell.
+void Judge(const DriftOptions& options, const CameraResult& cam, CameraDrift* drift_out,
+           std::vector<Warning>* warnings) {
+  CameraDrift& drift = *drift_out;
+  // Moved: beyond the tolerance, and by more than the two estimates' noise
+  // (3σ), so that a few noisy views do not call a camera moved.
+  const bool beyond =
+      drift.moved_mm > options.tolerance_mm || drift.moved_deg > options.tolerance_deg;
+  const bool significant =
+      drift.moved_mm > 3.0 * drift.sigma_mm || drift.moved_deg > 3.0 * drift.sigma_deg;
+  // Beyond a tolerance but within the noise: the check cannot tell either way.
+  drift.verdict = beyond && significant ? "moved" : beyond ? "not_assessed" : "ok";
+  if (beyond && !significant) {
+    std::ostringstream w;
+    w.precision(3);
+    w << "seems " << drift.moved_mm << " mm / " << drift.moved_deg
+      << " deg from its calibrated pose, within 3σ of the noise of the check (± " << drift.sigma_mm
+      << " mm / ± " << drift.sigma_deg << " deg)";
+    drift.reason = w.str();
+    warnings->push_back(CameraWarning(
+        WarningKind::kDriftWithinNoise, cam.name,
+        "camera '" + cam.name + "' " + drift.reason +
+            ": not called moved; take more poses with the target in its view to tell"));
+  } else if (drift.sigma_mm > 0.5 * options.tolerance_mm ||
+             drift.sigma_deg > 0.5 * options.tolerance_deg) {
+    std::ostringstream w;
+    w.precision(3);
+    w << "camera '" << cam.name << "': its " << drift.views << " new views know it to ± "
+      << drift.sigma_mm << " mm / ± " << drift.sigma_deg << " deg, too coarse for the tolerance ("
+      << options.tolerance_mm << " mm, " << options.tolerance_deg
+      << " deg): take more poses with the target in its view";
+    warnings->push_back(CameraWarning(WarningKind::kDriftTooCoarse, cam.name, w.str()));
+  }
+}
+
+}  // namespace
+
 DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibration,
                        const DriftOptions& options) {
   std::string why;
@@ -90,78 +181,8 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
       out.cameras.push_back(drift);
       continue;
     }
-    // The camera's pose from its new views alone, started at the calibrated one.
-    internal::ChainProblem chain(2, 0);
-    ceres::Problem& ceres_problem = chain.problem();
-    double* T_cam_mount = chain.AddPose(cam.T_cam.inverse());
-    double* T_holder_target_block = chain.AddPose(T_holder_target, true);
-    const double scale = std::max(1.0, 3.0 * internal::DetectionSigmaPx(problem));
-    std::vector<ceres::ResidualBlockId> blocks;
-    for (int v : views) {
-      const internal::View& view = problem.views[v];
-      blocks.push_back(ceres_problem.AddResidualBlock(
-          ViewReprojectionError::Create(dataset.cameras[k], problem.T_mount_holder[view.pose],
-                                        std::make_shared<const ViewPoints>(
-                                            ViewPoints{view.p_target, view.observation->points_px}),
-                                        scale),
-          nullptr, T_cam_mount, T_holder_target_block));
-    }
-    ceres::Solver::Options solver;
-    solver.linear_solver_type = ceres::DENSE_QR;
-    solver.max_num_iterations = 100;
-    solver.num_threads = options.threads;
-    solver.logging_type = ceres::SILENT;
-    ceres::Solver::Summary summary;
-    ceres::Solve(solver, &ceres_problem, &summary);
-    const Eigen::Isometry3d T_cam_mount_now = internal::ChainProblem::Pose(T_cam_mount);
-    drift.T_cam = T_cam_mount_now.inverse();
-    drift.estimated = true;
-    const internal::PoseDifference moved = internal::DifferenceOf(drift.T_cam, cam.T_cam);
-    drift.moved_mm = moved.translation_mm;
-    drift.moved_deg = moved.rotation_deg;
-    const internal::BlockCovariance covariance(&ceres_problem, {{T_cam_mount, T_cam_mount}},
-                                               ceres::DENSE_SVD);
-    if (covariance.ok()) {
-      const Eigen::Matrix<double, 6, 6> C = covariance.Tangent(T_cam_mount, T_cam_mount);
-      const double variance_factor = internal::VarianceFactor(&ceres_problem, blocks);
-      const PoseUncertainty u = internal::UncertaintyOf(T_cam_mount_now, C * variance_factor, true);
-      // The difference of two estimates: the new one and the calibration's
-      // own, less what the given intrinsics' uncertainty adds to it: the new
-      // views go through the same intrinsics, and their error moves both alike.
-      const double calibrated_mm = cam.sigma ? cam.sigma->OwnPositionMm() : 0.0;
-      const double calibrated_deg = cam.sigma ? cam.sigma->OwnRotationDeg() : 0.0;
-      drift.sigma_mm = std::hypot(u.position_mm, calibrated_mm);
-      drift.sigma_deg = std::hypot(u.rotation_deg, calibrated_deg);
-    }
-    // Moved: beyond the tolerance, and by more than the two estimates' noise
-    // (3σ), so that a few noisy views do not call a camera moved.
-    const bool beyond =
-        drift.moved_mm > options.tolerance_mm || drift.moved_deg > options.tolerance_deg;
-    const bool significant =
-        drift.moved_mm > 3.0 * drift.sigma_mm || drift.moved_deg > 3.0 * drift.sigma_deg;
-    // Beyond a tolerance but within the noise: the check cannot tell either way.
-    drift.verdict = beyond && significant ? "moved" : beyond ? "not_assessed" : "ok";
-    if (beyond && !significant) {
-      std::ostringstream w;
-      w.precision(3);
-      w << "seems " << drift.moved_mm << " mm / " << drift.moved_deg
-        << " deg from its calibrated pose, within 3σ of the noise of the check (± "
-        << drift.sigma_mm << " mm / ± " << drift.sigma_deg << " deg)";
-      drift.reason = w.str();
-      out.warnings.push_back(CameraWarning(
-          WarningKind::kDriftWithinNoise, cam.name,
-          "camera '" + cam.name + "' " + drift.reason +
-              ": not called moved; take more poses with the target in its view to tell"));
-    } else if (drift.sigma_mm > 0.5 * options.tolerance_mm ||
-               drift.sigma_deg > 0.5 * options.tolerance_deg) {
-      std::ostringstream w;
-      w.precision(3);
-      w << "camera '" << cam.name << "': its " << drift.views << " new views know it to ± "
-        << drift.sigma_mm << " mm / ± " << drift.sigma_deg << " deg, too coarse for the tolerance ("
-        << options.tolerance_mm << " mm, " << options.tolerance_deg
-        << " deg): take more poses with the target in its view";
-      out.warnings.push_back(CameraWarning(WarningKind::kDriftTooCoarse, cam.name, w.str()));
-    }
+    EstimateAgain(problem, k, views, cam, T_holder_target, options.threads, &drift);
+    Judge(options, cam, &drift, &out.warnings);
     out.cameras.push_back(drift);
   }
   return out;
