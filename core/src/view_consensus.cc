@@ -137,95 +137,121 @@ void IndexUsedViews(Problem* problem) {
       problem->camera_views[problem->views[i].camera].push_back(static_cast<int>(i));
 }
 
+namespace {
+
+/// Per view of `ids`: the σ of its PnP rotation (per axis, rad) and position
+/// (m) from its own corners' noise.
+void PnpSigmas(const Problem& problem, const std::vector<int>& ids, const Eigen::Vector3d& centre,
+               double pixel_sigma_px, std::vector<double>* rotation_rad,
+               std::vector<double>* position_m) {
+  rotation_rad->resize(ids.size());
+  position_m->resize(ids.size());
+  for (size_t a = 0; a < ids.size(); ++a) {
+    const View& view = problem.views[ids[a]];
+    const PnpNoise noise =
+        PnpNoiseOf(view, problem.dataset->cameras[view.camera], centre, pixel_sigma_px);
+    (*rotation_rad)[a] = std::sqrt(noise.rotation_rad2);
+    (*position_m)[a] = std::sqrt(noise.position_m2);
+  }
+}
+
+/// Why the vote left `view` out: its support against the camera's median.
+std::string DisagreementReason(const View& view, double support, double median_support) {
+  std::ostringstream why;
+  why << "its robot motion agrees with " << std::lround(100.0 * support)
+      << " % of the camera's other views (most agree with " << std::lround(100.0 * median_support)
+      << " %): the robot record likely belongs to another pose or time";
+  // Beyond 60° the corners are squeezed to half and less across the tilt.
+  const double angle_deg = ViewAngle(*view.T_cam_target, view.p_target) / kDeg;
+  if (angle_deg > 60.0)
+    why << ", or the target, seen " << std::lround(angle_deg)
+        << " deg from face-on, gave a poor pose";
+  return why.str();
+}
+
+/// The robot-motion vote among one camera's used views `ids`
+/// (RejectInconsistentMotions); returns the number of views it left out.
+int VoteCamera(Problem* problem, const std::vector<int>& ids, const Eigen::Vector3d& centre,
+               double pixel_sigma_px, const std::optional<Eigen::Isometry3d>& half_turn) {
+  int rejected = 0;
+  const size_t n = ids.size();
+  if (n < 4) return 0;  // three views: one pair against each; no majority to speak of
+  // What each view's rotation (σ per axis, rad) and position (σ, m) from
+  // PnP may be off by its own corners' noise alone: much more for a board
+  // seen obliquely or small.
+  std::vector<double> pnp_rotation_rad, pnp_position_m;
+  PnpSigmas(*problem, ids, centre, pixel_sigma_px, &pnp_rotation_rad, &pnp_position_m);
+  // Each view against up to kMaxPartners others, spread over the camera's
+  // views; view a seen at T_a.
+  const size_t partners = std::min(n - 1, kMaxPartners);
+  auto mismatches = [&](size_t a, const Eigen::Isometry3d& T_a) {
+    std::vector<MotionMismatch> out;
+    for (size_t i = 1; i <= partners; ++i) {
+      const size_t b = (a + i * (n - 1) / partners) % n;
+      MotionMismatch m = Compare(*problem, problem->views[ids[a]], T_a, problem->views[ids[b]]);
+      m.angle_noise_rad = std::hypot(pnp_rotation_rad[a], pnp_rotation_rad[b]);
+      m.pitch_noise_m = std::hypot(pnp_position_m[a], pnp_position_m[b]);
+      out.push_back(m);
+    }
+    return out;
+  };
+  std::vector<std::vector<MotionMismatch>> mismatch(n);
+  std::vector<double> angles, pitches;
+  for (size_t a = 0; a < n; ++a) {
+    mismatch[a] = mismatches(a, *problem->views[ids[a]].T_cam_target);
+    for (const MotionMismatch& m : mismatch[a]) {
+      angles.push_back(m.angle_rad);
+      if (m.pitch_m >= 0) pitches.push_back(m.pitch_m);
+    }
+  }
+  // Tolerances from the camera's own pairs (≈ 4σ of the typical mismatch,
+  // which PnP and the robot's own errors set), with floors for noise-free
+  // data; for each pair at least 4σ of what PnP's noise gives it (on a
+  // rendered cell good views at 65-70° from face-on failed the typical
+  // pairs' pitch tolerance against most of the views).
+  const double angle_tolerance = std::max(0.1 * kDeg, 6.0 * Median(angles));
+  const double pitch_tolerance = std::max(1e-3, 6.0 * Median(pitches));
+  auto support_of = [&](const std::vector<MotionMismatch>& pairs) {
+    int agree = 0;
+    for (const MotionMismatch& m : pairs) {
+      const double angle_limit = std::max(angle_tolerance, 4.0 * m.angle_noise_rad);
+      const double pitch_limit = std::max(pitch_tolerance, 4.0 * m.pitch_noise_m);
+      agree += m.angle_rad <= angle_limit && m.pitch_m <= pitch_limit ? 1 : 0;
+    }
+    return static_cast<double>(agree) / pairs.size();
+  };
+  std::vector<double> support(n);
+  for (size_t a = 0; a < n; ++a) support[a] = support_of(mismatch[a]);
+  // Only a clear majority votes a view out.
+  if (Median(support) < 0.5) return 0;
+  for (size_t a = 0; a < n; ++a) {
+    if (support[a] >= 0.5) continue;
+    View& view = problem->views[ids[a]];
+    // A 180°-ambiguous board numbered the other way round in this image
+    // (its detector cannot tell): its pose is off by the half turn, which
+    // no robot record explains. Numbered back, it agrees.
+    if (half_turn && support_of(mismatches(a, *view.T_cam_target * *half_turn)) >= 0.5) {
+      FlipView(*half_turn, &view);
+      continue;
+    }
+    view.used = false;
+    view.inconsistent = true;
+    view.rejected_because = DisagreementReason(view, support[a], Median(support));
+    ++rejected;
+  }
+  return rejected;
+}
+
+}  // namespace
+
 int RejectInconsistentMotions(Problem* problem) {
   int rejected = 0;
   const Eigen::Vector3d centre = TargetCentre(*problem->dataset->target);
   const double pixel_sigma_px = DetectionSigmaPx(*problem);
   const std::optional<Eigen::Isometry3d> half_turn = HalfTurnSymmetry(*problem->dataset->target);
   if (half_turn) NumberViewsAlike(problem, *half_turn);
-  for (const std::vector<int>& ids : problem->camera_views) {
-    const size_t n = ids.size();
-    if (n < 4) continue;  // three views: one pair against each; no majority to speak of
-    // What each view's rotation (σ per axis, rad) and position (σ, m) from
-    // PnP may be off by its own corners' noise alone: much more for a board
-    // seen obliquely or small.
-    std::vector<double> pnp_rotation_rad(n), pnp_position_m(n);
-    for (size_t a = 0; a < n; ++a) {
-      const View& view = problem->views[ids[a]];
-      const PnpNoise noise =
-          PnpNoiseOf(view, problem->dataset->cameras[view.camera], centre, pixel_sigma_px);
-      pnp_rotation_rad[a] = std::sqrt(noise.rotation_rad2);
-      pnp_position_m[a] = std::sqrt(noise.position_m2);
-    }
-    // Each view against up to kMaxPartners others, spread over the camera's
-    // views; view a seen at T_a.
-    const size_t partners = std::min(n - 1, kMaxPartners);
-    auto mismatches = [&](size_t a, const Eigen::Isometry3d& T_a) {
-      std::vector<MotionMismatch> out;
-      for (size_t i = 1; i <= partners; ++i) {
-        const size_t b = (a + i * (n - 1) / partners) % n;
-        MotionMismatch m = Compare(*problem, problem->views[ids[a]], T_a, problem->views[ids[b]]);
-        m.angle_noise_rad = std::hypot(pnp_rotation_rad[a], pnp_rotation_rad[b]);
-        m.pitch_noise_m = std::hypot(pnp_position_m[a], pnp_position_m[b]);
-        out.push_back(m);
-      }
-      return out;
-    };
-    std::vector<std::vector<MotionMismatch>> mismatch(n);
-    std::vector<double> angles, pitches;
-    for (size_t a = 0; a < n; ++a) {
-      mismatch[a] = mismatches(a, *problem->views[ids[a]].T_cam_target);
-      for (const MotionMismatch& m : mismatch[a]) {
-        angles.push_back(m.angle_rad);
-        if (m.pitch_m >= 0) pitches.push_back(m.pitch_m);
-      }
-    }
-    // Tolerances from the camera's own pairs (≈ 4σ of the typical mismatch,
-    // which PnP and the robot's own errors set), with floors for noise-free
-    // data; for each pair at least 4σ of what PnP's noise gives it (on a
-    // rendered cell good views at 65-70° from face-on failed the typical
-    // pairs' pitch tolerance against most of the views).
-    const double angle_tolerance = std::max(0.1 * kDeg, 6.0 * Median(angles));
-    const double pitch_tolerance = std::max(1e-3, 6.0 * Median(pitches));
-    auto support_of = [&](const std::vector<MotionMismatch>& pairs) {
-      int agree = 0;
-      for (const MotionMismatch& m : pairs) {
-        const double angle_limit = std::max(angle_tolerance, 4.0 * m.angle_noise_rad);
-        const double pitch_limit = std::max(pitch_tolerance, 4.0 * m.pitch_noise_m);
-        agree += m.angle_rad <= angle_limit && m.pitch_m <= pitch_limit ? 1 : 0;
-      }
-      return static_cast<double>(agree) / pairs.size();
-    };
-    std::vector<double> support(n);
-    for (size_t a = 0; a < n; ++a) support[a] = support_of(mismatch[a]);
-    // Only a clear majority votes a view out.
-    if (Median(support) < 0.5) continue;
-    for (size_t a = 0; a < n; ++a) {
-      if (support[a] >= 0.5) continue;
-      View& view = problem->views[ids[a]];
-      // A 180°-ambiguous board numbered the other way round in this image
-      // (its detector cannot tell): its pose is off by the half turn, which
-      // no robot record explains. Numbered back, it agrees.
-      if (half_turn && support_of(mismatches(a, *view.T_cam_target * *half_turn)) >= 0.5) {
-        FlipView(*half_turn, &view);
-        continue;
-      }
-      view.used = false;
-      view.inconsistent = true;
-      std::ostringstream why;
-      why << "its robot motion agrees with " << std::lround(100.0 * support[a])
-          << " % of the camera's other views (most agree with "
-          << std::lround(100.0 * Median(support))
-          << " %): the robot record likely belongs to another pose or time";
-      // Beyond 60° the corners are squeezed to half and less across the tilt.
-      const double angle_deg = ViewAngle(*view.T_cam_target, view.p_target) / kDeg;
-      if (angle_deg > 60.0)
-        why << ", or the target, seen " << std::lround(angle_deg)
-            << " deg from face-on, gave a poor pose";
-      view.rejected_because = why.str();
-      ++rejected;
-    }
-  }
+  for (const std::vector<int>& ids : problem->camera_views)
+    rejected += VoteCamera(problem, ids, centre, pixel_sigma_px, half_turn);
   if (rejected) IndexUsedViews(problem);
   return rejected;
 }
