@@ -133,6 +133,36 @@ void AddResult(py::module_& m) {
       .def_property_readonly(
           "T_target", [](const PyResult& r) { return TransformArray(r.result.T_target); },
           "4×4: T_ee_target (eye_to_hand) or T_base_target (eye_in_hand).")
+      // The frame-explicit readings (CalibrationResult): the other setup's
+      // frame raises RuntimeError naming the one to read, an unknown or
+      // uncalibrated camera IndexError.
+      .def(
+          "T_base_cam",
+          [](const PyResult& r, const std::string& camera) {
+            return TransformArray(r.result.T_base_cam(camera));
+          },
+          py::arg("camera"), "4×4 T_base_cam of an eye_to_hand result.")
+      .def(
+          "T_ee_cam",
+          [](const PyResult& r, const std::string& camera) {
+            return TransformArray(r.result.T_ee_cam(camera));
+          },
+          py::arg("camera"), "4×4 T_ee_cam of an eye_in_hand result.")
+      .def(
+          "T_ee_target", [](const PyResult& r) { return TransformArray(r.result.T_ee_target()); },
+          "4×4 T_ee_target of an eye_to_hand result.")
+      .def(
+          "T_base_target",
+          [](const PyResult& r) { return TransformArray(r.result.T_base_target()); },
+          "4×4 T_base_target of an eye_in_hand result.")
+      .def(
+          "T_base_cam_at",
+          [](const PyResult& r, const std::string& camera, py::handle T_base_ee) {
+            return TransformArray(
+                r.result.T_base_cam_at(camera, RigidTransform(T_base_ee, "T_base_ee", true)));
+          },
+          py::arg("camera"), py::arg("T_base_ee"),
+          "4×4: the camera in the base frame with the robot at T_base_ee (either setup).")
       .def_property_readonly("target_sigma",
                              [](const PyResult& r) { return SigmaDict(r.result.target_sigma); })
       .def_property_readonly("camera_pairs", [](const PyResult& r) { return Pairs(r.result); })

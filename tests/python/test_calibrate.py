@@ -121,3 +121,19 @@ def test_result_differences_sees_what_differs_beyond_the_tolerance(cli_result):
         "/cameras/cam0/sigma/position_mm", "/cameras/cam1/sigma/covariance/1/1", "/cameras/cam2/views", "/metrics/rms_px",
         f"/warnings/{len(document['warnings']) - 1}"]
     assert largest[0] == "/metrics/rms_px"
+
+
+def test_the_result_reads_in_its_own_setups_frames(cell):
+    result = handeye.calibrate(cell["observations"], threads=1)
+    assert result.setup == "eye_to_hand"
+    assert np.array_equal(result.T_base_cam("cam0"), result.T_cam["cam0"])
+    assert np.array_equal(result.T_ee_target(), result.T_target)
+    T_base_ee = np.eye(4)
+    T_base_ee[:3, 3] = [0.1, 0.2, 0.3]
+    assert np.array_equal(result.T_base_cam_at("cam0", T_base_ee), result.T_cam["cam0"])
+    with pytest.raises(RuntimeError, match="this result is eye_to_hand.*read T_base_cam"):
+        result.T_ee_cam("cam0")
+    with pytest.raises(RuntimeError, match="read T_ee_target"):
+        result.T_base_target()
+    with pytest.raises(IndexError, match="no camera 'cam9'"):
+        result.T_base_cam("cam9")

@@ -368,6 +368,22 @@ struct CalibrationResult {
   /// the input file (set by the program that read it; empty in memory).
   std::string handeye_version;
   std::string input;
+
+  /// Frame-explicit readings of `cameras[].T_cam` and `T_target`, which mean
+  /// different frames by setup: eye_to_hand has T_base_cam(name) and
+  /// T_ee_target(), eye_in_hand T_ee_cam(name) and T_base_target(). Asking
+  /// for the other setup's frame throws std::logic_error naming the one to
+  /// use; a camera the result does not have, or did not calibrate, throws
+  /// std::out_of_range.
+  Eigen::Isometry3d T_base_cam(const std::string& camera) const;
+  Eigen::Isometry3d T_ee_cam(const std::string& camera) const;
+  Eigen::Isometry3d T_ee_target() const;
+  Eigen::Isometry3d T_base_target() const;
+  /// Camera `camera` in the base frame with the robot at `T_base_ee`, in
+  /// either setup: T_base_cam (eye_to_hand: the robot does not move it) or
+  /// T_base_ee · T_ee_cam (eye_in_hand).
+  Eigen::Isometry3d T_base_cam_at(const std::string& camera,
+                                  const Eigen::Isometry3d& T_base_ee) const;
 };
 
 /// Calibrates from the dataset's observations (detect first for images).
