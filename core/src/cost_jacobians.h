@@ -122,46 +122,26 @@ inline bool ProjectPointWithJacobian(const IntrinsicsJet2& intrinsics, const dou
   return true;
 }
 
-/// Derivative of a residual with respect to the 18 intrinsics (row-major, as
-/// Ceres stores a parameter block's Jacobian).
-using IntrinsicsJacobian = Eigen::Matrix<double, 2, OpenCVCameraModel::kNumParams, Eigen::RowMajor>;
+/// Derivative of a residual with respect to the 18 intrinsics.
+using IntrinsicsJacobian = OpenCVCameraModel::IntrinsicsJacobian;
 
-/// The same with the intrinsics as unknowns: also d(residual)/d(intrinsics).
-/// The distortion goes through jets over the two normalised coordinates and
-/// the 14 coefficients; focal length and principal point enter linearly.
+/// The same with the intrinsics as unknowns: also d(residual)/d(intrinsics),
+/// the camera model's ProjectWithIntrinsicsJacobian, then the Cauchy scaling.
 inline bool ProjectPointWithIntrinsicsJacobian(const double* intrinsics, const double* p_cam,
                                                const Eigen::Vector2d& observed_px, double cauchy_scale_px,
                                                double* residual, Eigen::Matrix<double, 2, 3>* d_residual_d_p_cam,
                                                IntrinsicsJacobian* d_residual_d_intrinsics) {
-  constexpr int kDist = OpenCVCameraModel::kNumDistortion;
-  using Jet = ceres::Jet<double, 2 + kDist>;
-  if (!(p_cam[2] > 0)) return false;
-  const double inv_z = 1.0 / p_cam[2];
-  const double x = p_cam[0] / p_cam[2], y = p_cam[1] / p_cam[2];
-  Jet params[OpenCVCameraModel::kNumParams];
-  for (int k = 0; k < 4; ++k) params[k] = Jet(intrinsics[k]);
-  for (int k = 0; k < kDist; ++k) params[4 + k] = Jet(intrinsics[4 + k], 2 + k);
-  Jet xd, yd;
-  OpenCVCameraModel::Distort(params, Jet(x, 0), Jet(y, 1), &xd, &yd);
-  const double fx = intrinsics[0], fy = intrinsics[1];
-  Eigen::Matrix<double, 2, 2> d_uv_d_xy;
-  d_uv_d_xy << fx * xd.v[0], fx * xd.v[1], fy * yd.v[0], fy * yd.v[1];
-  Eigen::Matrix<double, 2, 3> d_xy_d_p;
-  d_xy_d_p << inv_z, 0.0, -x * inv_z, 0.0, inv_z, -y * inv_z;
-  IntrinsicsJacobian d_uv_d_k = IntrinsicsJacobian::Zero();
-  d_uv_d_k(0, 0) = xd.a;
-  d_uv_d_k(1, 1) = yd.a;
-  d_uv_d_k(0, 2) = 1.0;
-  d_uv_d_k(1, 3) = 1.0;
-  for (int k = 0; k < kDist; ++k) {
-    d_uv_d_k(0, 4 + k) = fx * xd.v[2 + k];
-    d_uv_d_k(1, 4 + k) = fy * yd.v[2 + k];
-  }
-  Eigen::Vector2d r(fx * xd.a + intrinsics[2] - observed_px.x(), fy * yd.a + intrinsics[3] - observed_px.y());
+  using Jet = ceres::Jet<double, 2 + OpenCVCameraModel::kNumDistortion>;
+  double uv[2];
+  Eigen::Matrix<double, 2, 3> d_uv_d_p;
+  IntrinsicsJacobian d_uv_d_k;
+  if (!OpenCVCameraModel::ProjectWithIntrinsicsJacobian<Jet>(intrinsics, p_cam, uv, &d_uv_d_p, &d_uv_d_k))
+    return false;
+  Eigen::Vector2d r(uv[0] - observed_px.x(), uv[1] - observed_px.y());
   const Eigen::Matrix2d d_out_d_r = ApplyCauchy(cauchy_scale_px, &r);
   residual[0] = r.x();
   residual[1] = r.y();
-  d_residual_d_p_cam->noalias() = d_out_d_r * (d_uv_d_xy * d_xy_d_p);
+  d_residual_d_p_cam->noalias() = d_out_d_r * d_uv_d_p;
   d_residual_d_intrinsics->noalias() = d_out_d_r * d_uv_d_k;
   return true;
 }

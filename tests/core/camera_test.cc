@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
+#include "handeye/core/camera.h"
+
+#include <ceres/jet.h>
+
 #include <catch2/catch.hpp>
 #include <opencv2/calib3d.hpp>
 #include <random>
-
-#include "handeye/core/camera.h"
 
 using namespace handeye;
 
@@ -22,12 +24,14 @@ const std::vector<std::vector<double>> kDistortions = {
     {-0.12, 0.05, 0.001, -0.0007, -0.01},
     {-0.12, 0.05, 0.001, -0.0007, -0.01, 0.02, -0.01, 0.003},
     {-0.12, 0.05, 0.001, -0.0007, -0.01, 0.02, -0.01, 0.003, 0.001, -0.0005, 0.0008, 0.0002},
-    {-0.12, 0.05, 0.001, -0.0007, -0.01, 0.02, -0.01, 0.003, 0.001, -0.0005, 0.0008, 0.0002, 0.01, -0.02},
+    {-0.12, 0.05, 0.001, -0.0007, -0.01, 0.02, -0.01, 0.003, 0.001, -0.0005, 0.0008, 0.0002, 0.01,
+     -0.02},
 };
 
 }  // namespace
 
-TEST_CASE("Project agrees with cv::projectPoints to 1e-9 px for every coefficient count", "[camera]") {
+TEST_CASE("Project agrees with cv::projectPoints to 1e-9 px for every coefficient count",
+          "[camera]") {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> xy(-0.6, 0.6), z(0.5, 5.0);
   for (const auto& dist : kDistortions) {
@@ -79,4 +83,45 @@ TEST_CASE("Project refuses points behind the camera", "[camera]") {
   const Camera cam = MakeCamera({});
   CHECK_FALSE(cam.Project({0, 0, -1}));
   CHECK_FALSE(cam.Project({0, 0, 0}));
+}
+
+TEST_CASE(
+    "ProjectWithIntrinsicsJacobian: the pixel of Project, and its derivatives by the point and the "
+    "18 intrinsics as autodiff's",
+    "[camera]") {
+  using Jet21 = ceres::Jet<double, 3 + OpenCVCameraModel::kNumParams>;
+  using Jet16 = ceres::Jet<double, 2 + OpenCVCameraModel::kNumDistortion>;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> xy(-0.6, 0.6), depth(0.5, 3.0);
+  for (const auto& dist : kDistortions) {
+    const Camera camera = MakeCamera(dist);
+    for (int i = 0; i < 20; ++i) {
+      const double z = depth(rng);
+      const double p[3] = {xy(rng) * z, xy(rng) * z, z};
+      double uv[2];
+      Eigen::Matrix<double, 2, 3> d_p;
+      OpenCVCameraModel::IntrinsicsJacobian d_k;
+      REQUIRE(OpenCVCameraModel::ProjectWithIntrinsicsJacobian<Jet16>(camera.params.data(), p, uv,
+                                                                      &d_p, &d_k));
+      // Reference: Project on jets over the point and every intrinsic.
+      Jet21 p_jet[3], k_jet[OpenCVCameraModel::kNumParams], uv_jet[2];
+      for (int j = 0; j < 3; ++j) p_jet[j] = Jet21(p[j], j);
+      for (int j = 0; j < OpenCVCameraModel::kNumParams; ++j)
+        k_jet[j] = Jet21(camera.params[j], 3 + j);
+      REQUIRE(OpenCVCameraModel::Project(k_jet, p_jet, uv_jet));
+      for (int r = 0; r < 2; ++r) {
+        CHECK(uv[r] == Approx(uv_jet[r].a).epsilon(1e-14));
+        for (int j = 0; j < 3; ++j)
+          CHECK(d_p(r, j) == Approx(uv_jet[r].v[j]).epsilon(1e-10).margin(1e-9));
+        for (int j = 0; j < OpenCVCameraModel::kNumParams; ++j)
+          CHECK(d_k(r, j) == Approx(uv_jet[r].v[3 + j]).epsilon(1e-10).margin(1e-9));
+      }
+    }
+  }
+  const double behind[3] = {0.1, 0.1, -1.0};
+  double uv[2];
+  Eigen::Matrix<double, 2, 3> d_p;
+  OpenCVCameraModel::IntrinsicsJacobian d_k;
+  CHECK_FALSE(OpenCVCameraModel::ProjectWithIntrinsicsJacobian<Jet16>(MakeCamera({}).params.data(),
+                                                                      behind, uv, &d_p, &d_k));
 }

@@ -96,6 +96,47 @@ struct OpenCVCameraModel {
     d_uv_d_p_cam->noalias() = d_uv_d_xy * d_xy_d_p;
     return true;
   }
+
+  /// Derivative of a pixel with respect to the 18 intrinsics (row-major, as
+  /// Ceres stores a parameter block's Jacobian).
+  using IntrinsicsJacobian = Eigen::Matrix<double, 2, kNumParams, Eigen::RowMajor>;
+
+  /// Project() with the derivatives of the pixel with respect to the point
+  /// (2×3) and to the intrinsics `params` (for solves that refine them).
+  /// `Jet` is ceres::Jet<double, 2 + kNumDistortion>: the distortion goes
+  /// through jets over the two normalised coordinates and the 14
+  /// coefficients; focal length and principal point enter linearly.
+  template <typename Jet>
+  static bool ProjectWithIntrinsicsJacobian(const double* params, const double* p_cam, double* uv,
+                                            Eigen::Matrix<double, 2, 3>* d_uv_d_p_cam,
+                                            IntrinsicsJacobian* d_uv_d_params) {
+    if (!(p_cam[2] > 0)) return false;
+    const double inv_z = 1.0 / p_cam[2];
+    const double x = p_cam[0] / p_cam[2], y = p_cam[1] / p_cam[2];
+    Jet jets[kNumParams];
+    for (int k = 0; k < 4; ++k) jets[k] = Jet(params[k]);
+    for (int k = 0; k < kNumDistortion; ++k) jets[4 + k] = Jet(params[4 + k], 2 + k);
+    Jet xd, yd;
+    Distort(jets, Jet(x, 0), Jet(y, 1), &xd, &yd);
+    const double fx = params[0], fy = params[1];
+    Eigen::Matrix<double, 2, 2> d_uv_d_xy;
+    d_uv_d_xy << fx * xd.v[0], fx * xd.v[1], fy * yd.v[0], fy * yd.v[1];
+    Eigen::Matrix<double, 2, 3> d_xy_d_p;
+    d_xy_d_p << inv_z, 0.0, -x * inv_z, 0.0, inv_z, -y * inv_z;
+    *d_uv_d_params = IntrinsicsJacobian::Zero();
+    (*d_uv_d_params)(0, 0) = xd.a;
+    (*d_uv_d_params)(1, 1) = yd.a;
+    (*d_uv_d_params)(0, 2) = 1.0;
+    (*d_uv_d_params)(1, 3) = 1.0;
+    for (int k = 0; k < kNumDistortion; ++k) {
+      (*d_uv_d_params)(0, 4 + k) = fx * xd.v[2 + k];
+      (*d_uv_d_params)(1, 4 + k) = fy * yd.v[2 + k];
+    }
+    uv[0] = fx * xd.a + params[2];
+    uv[1] = fy * yd.a + params[3];
+    d_uv_d_p_cam->noalias() = d_uv_d_xy * d_xy_d_p;
+    return true;
+  }
 };
 
 /// One camera: name, image size and intrinsics in OpenCVCameraModel order.
