@@ -29,6 +29,8 @@ struct ReportArgs {
   int threads = 0;
   bool no_closed_form = false;
   bool reorthonormalise = false;
+  int next_poses = 4;
+  double next_goal_mm = 0;
 };
 
 void RunReport(const ReportArgs& args) {
@@ -70,6 +72,8 @@ void RunReport(const ReportArgs& args) {
   ReportOptions options;
   options.threads = args.threads;
   options.compare_closed_form = !args.no_closed_form;
+  options.next_poses = args.next_poses;
+  options.next_goal_mm = args.next_goal_mm;
   options.dataset_label =
       args.dataset + (args.observations.empty() ? "" : " + " + args.observations);
   options.result_label = args.result;
@@ -111,6 +115,14 @@ void RegisterReport(CLI::App& app) {
       ->check(ThreadCount());
   cmd->add_flag("--no-closed-form", args->no_closed_form,
                 "leave out the result's comparison with a per-camera closed-form solution (its table column)");
+  cmd->add_option("--next-poses", args->next_poses,
+                  "robot poses proposed in the report's \"what to capture next\" section, as `handeye "
+                  "advise` proposes them (default 4; 0 leaves the section out)")
+      ->check(IntegerIn(0, 20, "between 0 and 20 poses"));
+  cmd->add_option("--next-goal-mm", args->next_goal_mm,
+                  "name the cameras predicted above this position sigma (mm) in that section, and "
+                  "stop proposing once all are within it (default: no goal)")
+      ->check(NonNegativeNumber("a number of millimetres, 0 or more"));
   cmd->add_flag("--reorthonormalise", args->reorthonormalise,
                 "replace slightly non-orthonormal robot rotations by the nearest rotation");
   AddQuietFlag(cmd, &args->quiet);

@@ -47,6 +47,9 @@ bool ReportOptions::Check(std::string* why) const {
   if (threads < 0) return fail("threads must be >= 0 (0 = all cores)");
   if (thumbnail_width_px < 32 || thumbnail_width_px > 4096)
     return fail("thumbnail_width_px must be in [32, 4096]");
+  if (next_poses < 0 || next_poses > 20) return fail("next_poses must be in [0, 20]");
+  if (!(next_goal_mm >= 0) || !std::isfinite(next_goal_mm))
+    return fail("next_goal_mm must be a finite number >= 0 (0: no goal)");
   return true;
 }
 
@@ -82,6 +85,9 @@ ReportSummary WriteReport(const Dataset& dataset, const CalibrationResult& resul
   // The plots (SVG for index.html) are drawn meanwhile; they only read the model.
   std::future<report::Plots> plots_drawn =
       std::async(std::launch::async, [&model] { return report::DrawPlots(model); });
+  // So is the advice on what to capture next (it reads the dataset and result only).
+  std::future<report::NextCapture> next_advised = std::async(
+      std::launch::async, [&] { return report::AdviseNext(dataset, result, options); });
   // Overlays: each worker loads, draws and writes one view at a time.
   const std::size_t total = model.views.size();
   std::exception_ptr overlay_error;
@@ -111,6 +117,7 @@ ReportSummary WriteReport(const Dataset& dataset, const CalibrationResult& resul
   }
   // Waited for in any case: the plotting thread reads the model.
   const report::Plots plots = plots_drawn.get();
+  model.next = next_advised.get();
   if (overlay_error) std::rethrow_exception(overlay_error);
 
   ReportSummary summary;

@@ -179,6 +179,7 @@ std::string RenderHtml(const ReportModel& model, const Plots& plots,
   UncertaintyTable(model, out);
   IntrinsicsTable(model, out);
   SharedAndPairs(model, out);
+  NextCaptureSection(model.next, out);
 
   out << "<h2 id=\"plots\">Plots</h2>\n<div class=\"plots\">\n"
       << plots.map << plots.view_rms << "</div>\n<h3>Residual histograms</h3>\n<div class=\"plots\">\n";

@@ -25,6 +25,9 @@ std::string Quaternion(const Eigen::Matrix3d& R);
 /// A coloured square in the camera's colour.
 std::string Swatch(int camera);
 
+/// "What to capture next" (ReportOptions::next_poses); nothing when not wanted.
+void NextCaptureSection(const NextCapture& next, std::ostream& out);
+
 /// The tables of the page: camera poses and quality, uncertainty, refined
 /// intrinsics, the shared transform and camera pairs.
 void CameraTables(const ReportModel& model, std::ostringstream& out);

@@ -12,6 +12,7 @@
 
 #include "handeye/core/calibration.h"
 #include "handeye/core/dataset.h"
+#include "handeye/core/plan_advice.h"
 #include "handeye/report/report.h"
 
 namespace handeye::report {
@@ -58,6 +59,21 @@ struct CameraModel {
   std::string folder;  ///< folder-safe name
 };
 
+/// The "what to capture next" section (ReportOptions::next_poses): the advice,
+/// or why there is none.
+struct NextCapture {
+  bool wanted = false;  ///< next_poses > 0
+  std::string why_not;  ///< no advice could be computed: why
+  PlanCell cell;        ///< the cell as the result knows it
+  Advice advice;
+  double goal_mm = 0;
+};
+
+/// Advice on the poses to record next (core/plan_advice.h); never throws
+/// for data it cannot advise on (why_not says why).
+NextCapture AdviseNext(const Dataset& dataset, const CalibrationResult& result,
+                       const ReportOptions& options);
+
 /// Everything the overlays, plots and HTML draw, computed once.
 struct ReportModel {
   const Dataset* dataset = nullptr;  ///< with the intrinsics the result used
@@ -75,6 +91,7 @@ struct ReportModel {
   /// The result's warnings, after any about the result not matching the observations.
   std::vector<Warning> warnings;
   std::vector<std::string> notes;
+  NextCapture next;
 };
 
 /// Builds the model; throws InputError when result and dataset do not match.

@@ -37,6 +37,15 @@ struct ReportOptions {
   /// the result's own (CalibrationOptions::warn decides them), all shown.
   bool compare_closed_form = true;
 
+  /// "What to capture next": the robot poses to record next that most reduce
+  /// the worst camera's σ, as `handeye advise` proposes them
+  /// (core/plan_advice.h), with the σ predicted after each. At most
+  /// `next_poses` (0 leaves the section out); with `next_goal_mm` > 0 the
+  /// cameras predicted above it are named and the proposals stop once all
+  /// are within it.
+  int next_poses = 4;
+  double next_goal_mm = 0;
+
   /// Shown in the report's header (e.g. the file names the data came from).
   std::string dataset_label, result_label;
   /// Called after each overlay with (done, total), from one thread at a time.
