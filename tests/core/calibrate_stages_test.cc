@@ -14,6 +14,7 @@
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
 #include "handeye/sim/synthetic.h"
+#include "support/projected_scene.h"
 
 using namespace handeye;
 using internal::Calibration;
@@ -21,15 +22,7 @@ using internal::Calibration;
 namespace {
 
 SyntheticScene StageScene(int cameras, int poses, std::uint64_t seed) {
-  SceneOptions options;
-  options.cell = "small";
-  options.num_cameras = cameras;
-  options.num_poses = poses;
-  options.seed = seed;
-  SyntheticScene scene = MakeScene(options, std::make_shared<const CheckerboardTarget>(7, 6, 0.04));
-  std::mt19937_64 rng(seed);
-  AddProjectedObservations(&scene, 0.1, &rng);
-  return scene;
+  return test::ProjectedScene("small", cameras, poses, seed, 0.1);
 }
 
 double PositionErrorMm(const Eigen::Isometry3d& T_cam_mount, const Eigen::Isometry3d& T_cam_true) {

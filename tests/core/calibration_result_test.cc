@@ -11,22 +11,14 @@
 #include "handeye/core/checkerboard.h"
 #include "handeye/core/transform.h"
 #include "handeye/sim/synthetic.h"
+#include "support/projected_scene.h"
 
 using namespace handeye;
 
 namespace {
 
 SyntheticScene ResultScene(Setup setup) {
-  SceneOptions options;
-  options.cell = "small";
-  options.num_cameras = 2;
-  options.num_poses = 12;
-  options.setup = setup;
-  options.seed = 11;
-  SyntheticScene scene = MakeScene(options, std::make_shared<const CheckerboardTarget>(7, 6, 0.04));
-  std::mt19937_64 rng(11);
-  AddProjectedObservations(&scene, 0.05, &rng);
-  return scene;
+  return test::ProjectedScene("small", 2, 12, 11, 0.05, setup);
 }
 
 double DistanceMm(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {

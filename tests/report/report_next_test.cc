@@ -12,6 +12,7 @@
 #include "handeye/core/checkerboard.h"
 #include "handeye/report/report.h"
 #include "handeye/sim/synthetic.h"
+#include "support/projected_scene.h"
 #include "support/test_support.h"
 
 using namespace handeye;
@@ -35,9 +36,7 @@ FewViewsCell MakeFewViewsCell() {
   options.width = 960;
   options.height = 540;
   FewViewsCell cell;
-  cell.scene = MakeScene(options, std::make_shared<const CheckerboardTarget>(7, 4, 0.04));
-  std::mt19937_64 rng(2);
-  AddProjectedObservations(&cell.scene, 0.2, &rng);
+  cell.scene = test::ProjectedScene(options, 0.2, 4, 2);
   int kept = 0;
   std::vector<Observation> observations;
   for (const Observation& obs : cell.scene.dataset.observations)
