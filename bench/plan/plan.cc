@@ -37,6 +37,8 @@ struct Settings {
   double robot_mm = 0.3, robot_deg = 0.03;
   int sampler_poses = 30, planned_poses = 12, candidates = 3000;
   bool given_robot_sigma = false;  // solve with the true robot σ instead of estimating it
+  double rough_mm = 20, rough_deg = 1;  // the cell's rough poses: ± of cameras and target
+  double uncertainty_margin = PlanOptions{}.uncertainty_margin;
 };
 
 /// One capture's outcome against the truth.
@@ -103,8 +105,11 @@ CapturePlan PlanFor(const SyntheticScene& sampler, std::uint64_t seed, const Set
   // The simulator turns each record by N(0, σ) about a random axis: σ/√3 per axis.
   rough.robot_sigma_deg = s.robot_deg / std::sqrt(3.0);
   rough.pixel_sigma_px = s.noise_px;
+  rough.position_mm = s.rough_mm;
+  rough.rotation_deg = s.rough_deg;
   const PlanCell cell = PlanCellOfScene(sampler, rough);
   PlanOptions plan_options;
+  plan_options.uncertainty_margin = s.uncertainty_margin;
   plan_options.poses = s.planned_poses;
   plan_options.seed = seed;
   plan_options.candidates = s.candidates;
@@ -139,6 +144,10 @@ int main(int argc, char** argv) {
   app.add_option("--robot-deg", s.robot_deg, "robot rotation error σ (deg)");
   app.add_option("--sampler-poses", s.sampler_poses, "poses of the simulator's own capture");
   app.add_option("--planned-poses", s.planned_poses, "poses of the planned capture");
+  app.add_option("--rough-mm", s.rough_mm, "the cell's rough poses: ± of each camera's and the target's position (mm)");
+  app.add_option("--rough-deg", s.rough_deg, "the cell's rough poses: ± of their orientation (deg)");
+  app.add_option("--uncertainty-margin", s.uncertainty_margin,
+                 "PlanOptions::uncertainty_margin: share of the rough ± kept free around the target (0-1)");
   app.add_flag("--given-robot-sigma", s.given_robot_sigma,
                "solve with the true robot error as the prior (default: the solve estimates it)");
   CLI11_PARSE(app, argc, argv);
@@ -147,17 +156,18 @@ int main(int argc, char** argv) {
   const std::vector<std::string> cell_names = SplitList(cells), camera_counts = SplitList(cameras_list);
   Table table({"cell", "cameras", "seeds solved", "mean err sampler mm", "mean err planned mm", "worst err sampler mm",
                "worst err planned mm", "worst improvement", "predicted/reported sigma (median, min, max)",
-               "RMS true err / RMS predicted sigma"});
+               "RMS true err / RMS predicted sigma", "plans failed", "planned views seen whole / claimed"});
   for (size_t c = 0; c < cell_names.size(); ++c) {
     const int cameras = std::stoi(camera_counts[std::min(c, camera_counts.size() - 1)]);
     std::vector<double> mean_sampler, mean_planned, worst_sampler, worst_planned, ratios;
     std::vector<double> predicted_sigma, planned_errors;  // per camera of the planned captures
-    int solved = 0;
+    int solved = 0, failed_plans = 0, claimed_views = 0, whole_views = 0;
     for (int i = 0; i < seeds; ++i) {
       const std::uint64_t seed = first_seed + i;
       SyntheticScene sampler = MakeScene(Options(cell_names[c], cameras, s.sampler_poses, seed, s), target);
       const CapturePlan plan = PlanFor(sampler, seed, s);
       if (!plan.failure.empty()) {
+        ++failed_plans;
         std::fprintf(stderr, "%s seed %llu: plan failed: %s\n", cell_names[c].c_str(), (unsigned long long)seed,
                      plan.failure.c_str());
         continue;
@@ -168,6 +178,10 @@ int main(int argc, char** argv) {
       SyntheticScene planned = MakeScene(planned_options, target);
       Observe(&sampler, s, seed);
       Observe(&planned, s, seed + 7919);
+      // The views the plan counts on, against those the true cell gives with the whole target.
+      for (const PlannedPose& pose : plan.poses) claimed_views += static_cast<int>(pose.cameras.size());
+      for (const Observation& obs : planned.dataset.observations)
+        whole_views += obs.ids.size() == target->Points().size() ? 1 : 0;
       const Outcome a = Solve(sampler, s), b = Solve(planned, s);
       if (!a.solved || !b.solved) {
         std::fprintf(stderr, "%s seed %llu: %s %s\n", cell_names[c].c_str(), (unsigned long long)seed,
@@ -190,7 +204,11 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s seed %llu: sampler mean %.3f worst %.3f | planned mean %.3f worst %.3f\n",
                    cell_names[c].c_str(), (unsigned long long)seed, a.mean_mm, a.worst_mm, b.mean_mm, b.worst_mm);
     }
-    if (solved == 0) continue;
+    if (solved == 0) {
+      std::printf("%s, %d cameras: %d of %d plans failed, none solved\n", cell_names[c].c_str(), cameras,
+                  failed_plans, seeds);
+      continue;
+    }
     const double lo = *std::min_element(ratios.begin(), ratios.end());
     const double hi = *std::max_element(ratios.begin(), ratios.end());
     table.Add({cell_names[c], std::to_string(cameras), Format("%d/%d", solved, seeds),
@@ -198,7 +216,8 @@ int main(int argc, char** argv) {
                Format("%.3f", Mean(worst_sampler)), Format("%.3f", Mean(worst_planned)),
                Format("%.2fx", Mean(worst_sampler) / Mean(worst_planned)),
                Format("%.2f (%.2f, %.2f)", Median(ratios), lo, hi),
-               Format("%.2f", Rms(planned_errors) / Rms(predicted_sigma))});
+               Format("%.2f", Rms(planned_errors) / Rms(predicted_sigma)), std::to_string(failed_plans),
+               Format("%d/%d", whole_views, claimed_views)});
   }
   std::printf("%s", table.Markdown().c_str());
   return 0;

@@ -130,6 +130,10 @@ bool PlanOptions::Check(std::string* why) const {
     if (why) *why = "a non-negative goal in mm";
     return false;
   }
+  if (!(uncertainty_margin >= 0 && uncertainty_margin <= 1)) {
+    if (why) *why = "an uncertainty_margin from 0 to 1";
+    return false;
+  }
   if (candidates < 0 || candidates > 1000000) {
     if (why) *why = "between 0 and 1000000 candidates";
     return false;
@@ -138,7 +142,8 @@ bool PlanOptions::Check(std::string* why) const {
 }
 
 CapturePlan PlanCapture(const PlanCell& cell, const PlanOptions& options, const std::vector<PlannedPose>& recorded) {
-  const Model model = plan_internal::MakeModel(cell);
+  Model model = plan_internal::MakeModel(cell);
+  for (double& margin_px : model.uncertainty_margin_px) margin_px *= options.uncertainty_margin;
   Eigen::MatrixXd information = model.prior;
   for (const PlannedPose& pose : recorded)
     information += plan_internal::PoseInformation(model, pose.T_base_ee, Indices(cell, pose.cameras));
