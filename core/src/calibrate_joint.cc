@@ -225,10 +225,15 @@ void SolveJointMethod(Calibration* c) {
   if (robot) NoteRobotModel(c, *robot);
   c->est.T_cam_mount = refined.T_cam_mount;
   c->est.shared_T_holder_target = refined.T_holder_target[0];
-  // How well the solution is known: the same problem at the solution.
+  // How well the solution is known: the same problem at the solution, the
+  // cross terms' pairs included (started from the cameras' own instead, the
+  // cost's gradient is far from 0 there, and the given intrinsics' shift,
+  // read from that gradient, came out tens of times the noise's).
   const CalibrationOptions final_options = AtLossScale(c->options, refined.summary.cauchy_scale_px);
+  Initialisation at_solution = init;
+  at_solution.T_camk_camt = refined.pairs;
   const Refinement covariance =
-      RefineJoint(c->problem, init, final_options, robot, JointStep::kCovariance);
+      RefineJoint(c->problem, at_solution, final_options, robot, JointStep::kCovariance);
   if (c->options.cross_validate)
     CrossValidate(c->problem, init, final_options, robot, &c->camera_validation);
   for (size_t k = 0; k < c->dataset.cameras.size(); ++k)

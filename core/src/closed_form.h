@@ -2,6 +2,7 @@
 #pragma once
 // The closed forms (closed_form.cc) and the joint solve's start from them.
 
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -71,6 +72,9 @@ struct Initialisation {
   std::vector<bool> fixed_T_cam_mount;
   /// With a robot prior: per pose, the start of its block (empty: the reported pose).
   std::vector<std::optional<Eigen::Isometry3d>> T_mount_holder;
+  /// Per ordered camera pair (k, t) of the cross terms: the start of
+  /// T_camk_camt (absent: T_camk_mount · T_mount_camt, the cameras' own).
+  std::map<std::pair<int, int>, Eigen::Isometry3d> T_camk_camt;
 };
 Initialisation InitialiseJoint(const Problem& problem);
 

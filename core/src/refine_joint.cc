@@ -158,8 +158,14 @@ void AddViews(JointBuild* b) {
         const View& view_k = problem.views[vk];
         const int k = view_k.camera, t = problem.views[vt].camera;
         double*& T_camk_mount_via_t = b->pairs[{k, t}];
-        // T_camk_camt starts at T_camk_mount · T_mount_camt, so this block at T_camk_mount.
-        if (!T_camk_mount_via_t) T_camk_mount_via_t = b->chain.AddPose(*b->init.T_cam_mount[k]);
+        // T_camk_camt starts at T_camk_mount · T_mount_camt (this block at
+        // T_camk_mount) unless the start names it.
+        if (!T_camk_mount_via_t) {
+          const auto start = b->init.T_camk_camt.find({k, t});
+          T_camk_mount_via_t = b->chain.AddPose(start == b->init.T_camk_camt.end()
+                                                    ? *b->init.T_cam_mount[k]
+                                                    : start->second * *b->init.T_cam_mount[t]);
+        }
         AddView(b, view_k, k, T_camk_mount_via_t, points[vk]);
       }
 }

@@ -115,7 +115,7 @@ def test_result_differences_sees_what_differs_beyond_the_tolerance(cli_result):
     del document["cameras"]["cam0"]["sigma"]["position_mm"]
     covariance = document["cameras"]["cam1"]["sigma"]["covariance"]
     covariance[0][0] *= 1 + 1e-7  # a covariance's rounding (see result_differences): agreed
-    covariance[1][1] *= 1 + 1e-5
+    covariance[1][1] += 1e-5 * max(1.0, abs(covariance[1][1]))  # beyond it (absolute below 1)
     differences, largest = handeye.result_differences(cli_result, json.dumps(document))
     assert [path for path, _, _ in differences] == [
         "/cameras/cam0/sigma/position_mm", "/cameras/cam1/sigma/covariance/1/1", "/cameras/cam2/views", "/metrics/rms_px",
