@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // `handeye plan CELL -o PLAN.json [--csv PLAN.csv] [--poses N] [--goal-mm S]
-// [--seed K]`: which robot poses to record (core/plan.h), before the robot
+// [--seed K] [--intrinsics-sigma S]`: which robot poses to record (core/plan.h), before the robot
 // moves. Exit 3 when a camera can see the target from nowhere in the region,
 // or the goal is out of reach (the best σ reachable is named).
 #include <cstdio>
@@ -29,13 +29,20 @@ struct PlanArgs {
   double goal_mm = 0;
   std::uint64_t seed = 1;
   int candidates = 3000;
+  std::string intrinsics_sigma;  // --intrinsics-sigma: the cell's, or the solve's default
 };
 
 void RunPlan(const PlanArgs& args) {
   const std::string csv = !args.csv.empty() ? args.csv
                                             : std::filesystem::path(args.output).replace_extension(".csv").string();
   CheckFileOutputs({{"CELL", args.cell}}, {{"-o", args.output}, {"--csv", csv}});
-  const PlanCell cell = LoadPlanCell(args.cell);
+  PlanCell cell = LoadPlanCell(args.cell);
+  if (!args.intrinsics_sigma.empty()) {
+    std::string why;
+    const auto sigma = ParseIntrinsicsSigma(args.intrinsics_sigma, &why, cell.intrinsics_sigma);
+    if (!sigma) throw InputError("", "", "--intrinsics-sigma: " + why);
+    cell.intrinsics_sigma = *sigma;
+  }
   PlanOptions options;
   options.poses = args.goal_mm > 0 && !args.poses_given ? kMostPosesForGoal : args.poses;
   options.goal_mm = args.goal_mm;
@@ -67,6 +74,9 @@ void RegisterPlan(CLI::App& app) {
       ->each([args](const std::string&) { args->poses_given = true; });
   cmd->add_option("--goal-mm", args->goal_mm, "stop at the fewest poses whose worst camera sigma is within this (mm)")
       ->check(PositiveNumber("a positive goal in mm"));
+  cmd->add_option("--intrinsics-sigma", args->intrinsics_sigma,
+                  "how far off the given intrinsics may be, as calibrate takes it (focal=P%,principal_point=Npx "
+                  "or 0); default the cell's noise.intrinsics_sigma, else focal=1%,principal_point=3px");
   AddCandidateOptions(cmd, &args->seed, &args->candidates);
   cmd->callback([args]() { RunPlan(*args); });
 }

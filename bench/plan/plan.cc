@@ -39,6 +39,8 @@ struct Settings {
   bool given_robot_sigma = false;  // solve with the true robot σ instead of estimating it
   double rough_mm = 20, rough_deg = 1;  // the cell's rough poses: ± of cameras and target
   double uncertainty_margin = PlanOptions{}.uncertainty_margin;
+  // The given intrinsics off (even cameras +, odd −): focal %, principal point px.
+  double focal_off_percent = 0, principal_point_off_px = 0;
 };
 
 /// One capture's outcome against the truth.
@@ -46,7 +48,7 @@ struct Outcome {
   bool solved = false;
   std::string why;
   double mean_mm = 0, worst_mm = 0;
-  std::map<std::string, double> error_mm, sigma_mm;
+  std::map<std::string, double> error_mm, sigma_mm, own_sigma_mm;
 };
 
 void Observe(SyntheticScene* scene, const Settings& settings, std::uint64_t seed) {
@@ -68,14 +70,28 @@ Outcome Solve(const SyntheticScene& scene, const Settings& settings) {
       options.robot_sigma_mm = settings.robot_mm;
       options.robot_sigma_deg = settings.robot_deg / std::sqrt(3.0);
     }
-    const CalibrationResult result = Calibrate(scene.dataset, options);
+    // The given intrinsics off as a user's earlier calibration may be: the
+    // observations are the true cameras', the solve gets these.
+    Dataset dataset = scene.dataset;
+    for (size_t k = 0; k < dataset.cameras.size(); ++k) {
+      const double sign = k % 2 ? -1.0 : 1.0;
+      auto& params = dataset.cameras[k].params;
+      params[0] *= 1.0 + sign * settings.focal_off_percent / 100.0;
+      params[1] *= 1.0 + sign * settings.focal_off_percent / 100.0;
+      params[2] += sign * settings.principal_point_off_px;
+      params[3] += sign * settings.principal_point_off_px;
+    }
+    const CalibrationResult result = Calibrate(dataset, options);
     const Evaluation evaluation = EvaluateAgainstTruth(result, scene.truth);
     for (const CameraError& e : evaluation.cameras) {
       out.error_mm[e.name] = e.translation_mm;
       out.worst_mm = std::max(out.worst_mm, e.translation_mm);
     }
     for (const CameraResult& c : result.cameras)
-      if (c.sigma) out.sigma_mm[c.name] = c.sigma->position_mm;
+      if (c.sigma) {
+        out.sigma_mm[c.name] = c.sigma->position_mm;
+        out.own_sigma_mm[c.name] = c.sigma->OwnPositionMm();
+      }
     out.mean_mm = evaluation.mean_translation_mm;
     out.solved = evaluation.cameras.size() == scene.dataset.cameras.size();
     if (!out.solved) out.why = "not every camera calibrated";
@@ -150,17 +166,28 @@ int main(int argc, char** argv) {
                  "PlanOptions::uncertainty_margin: share of the rough ± kept free around the target (0-1)");
   app.add_flag("--given-robot-sigma", s.given_robot_sigma,
                "solve with the true robot error as the prior (default: the solve estimates it)");
+  std::string intrinsics_off = "0/0";
+  app.add_option("--intrinsics-off", intrinsics_off,
+                 "PCT/PX: the given intrinsics off by PCT % in focal length and PX in the principal point "
+                 "(even cameras +, odd -); the observations are the true cameras'");
   CLI11_PARSE(app, argc, argv);
+  const auto slash = intrinsics_off.find('/');
+  if (slash == std::string::npos) {
+    std::fprintf(stderr, "--intrinsics-off: PCT/PX, e.g. 1/3\n");
+    return 2;
+  }
+  s.focal_off_percent = std::stod(intrinsics_off.substr(0, slash));
+  s.principal_point_off_px = std::stod(intrinsics_off.substr(slash + 1));
 
   const auto target = std::make_shared<const CheckerboardTarget>(7, 4, 0.04);
   const std::vector<std::string> cell_names = SplitList(cells), camera_counts = SplitList(cameras_list);
   Table table({"cell", "cameras", "seeds solved", "mean err sampler mm", "mean err planned mm", "worst err sampler mm",
                "worst err planned mm", "worst improvement", "predicted/reported sigma (median, min, max)",
-               "RMS true err / RMS predicted sigma", "plans failed", "planned views seen whole / claimed"});
+               "RMS true err / RMS predicted sigma", "RMS true err / RMS reported sigma", "plans failed", "planned views seen whole / claimed"});
   for (size_t c = 0; c < cell_names.size(); ++c) {
     const int cameras = std::stoi(camera_counts[std::min(c, camera_counts.size() - 1)]);
     std::vector<double> mean_sampler, mean_planned, worst_sampler, worst_planned, ratios;
-    std::vector<double> predicted_sigma, planned_errors;  // per camera of the planned captures
+    std::vector<double> predicted_sigma, reported_sigma, planned_errors;  // per camera of the planned captures
     int solved = 0, failed_plans = 0, claimed_views = 0, whole_views = 0;
     for (int i = 0; i < seeds; ++i) {
       const std::uint64_t seed = first_seed + i;
@@ -197,9 +224,10 @@ int main(int argc, char** argv) {
         if (b.sigma_mm.count(name)) {
           ratios.push_back(predicted.position_mm / b.sigma_mm.at(name));
           predicted_sigma.push_back(predicted.position_mm);
+          reported_sigma.push_back(b.sigma_mm.at(name));
           planned_errors.push_back(b.error_mm.at(name));
-          std::fprintf(stderr, "  %s predicted %.3f reported %.3f true error %.3f\n", name.c_str(),
-                       predicted.position_mm, b.sigma_mm.at(name), b.error_mm.at(name));
+          std::fprintf(stderr, "  %s predicted %.3f reported %.3f (own %.3f) true error %.3f\n", name.c_str(),
+                       predicted.position_mm, b.sigma_mm.at(name), b.own_sigma_mm.at(name), b.error_mm.at(name));
         }
       std::fprintf(stderr, "%s seed %llu: sampler mean %.3f worst %.3f | planned mean %.3f worst %.3f\n",
                    cell_names[c].c_str(), (unsigned long long)seed, a.mean_mm, a.worst_mm, b.mean_mm, b.worst_mm);
@@ -216,7 +244,8 @@ int main(int argc, char** argv) {
                Format("%.3f", Mean(worst_sampler)), Format("%.3f", Mean(worst_planned)),
                Format("%.2fx", Mean(worst_sampler) / Mean(worst_planned)),
                Format("%.2f (%.2f, %.2f)", Median(ratios), lo, hi),
-               Format("%.2f", Rms(planned_errors) / Rms(predicted_sigma)), std::to_string(failed_plans),
+               Format("%.2f", Rms(planned_errors) / Rms(predicted_sigma)),
+               Format("%.2f", Rms(planned_errors) / Rms(reported_sigma)), std::to_string(failed_plans),
                Format("%d/%d", whole_views, claimed_views)});
   }
   std::printf("%s", table.Markdown().c_str());

@@ -108,6 +108,9 @@ bool PlanCell::Check(std::string* why) const {
   if (cameras.empty()) return fail("at least one camera");
   if (!(pixel_sigma_px > 0) || !std::isfinite(pixel_sigma_px)) return fail("a positive detection noise pixel_sigma_px");
   if (!(robot_sigma_mm >= 0) || !(robot_sigma_deg >= 0)) return fail("non-negative robot sigmas");
+  if (!(intrinsics_sigma.focal_percent >= 0) || !std::isfinite(intrinsics_sigma.focal_percent) ||
+      !(intrinsics_sigma.principal_point_px >= 0) || !std::isfinite(intrinsics_sigma.principal_point_px))
+    return fail("a finite, non-negative intrinsics_sigma (focal_percent, principal_point_px)");
   if (!region.box && region.taught.empty()) return fail("a region: a box, taught poses, or both");
   if (!(constraints.max_view_angle_deg > 0 && constraints.max_view_angle_deg < 90))
     return fail("max_view_angle_deg between 0 and 90");

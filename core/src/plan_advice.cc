@@ -80,6 +80,7 @@ PlanCell PlanCellOfResult(const Dataset& dataset, const CalibrationResult& resul
   if (cameras > 0 && sum_squares > 0) cell.pixel_sigma_px = std::sqrt(sum_squares / cameras / 2.0);
   cell.robot_sigma_mm = result.solver.robot_sigma_mm;
   cell.robot_sigma_deg = result.solver.robot_sigma_deg;
+  cell.intrinsics_sigma = result.options.intrinsics_sigma;  // as the solve weighed them
   if (!given) cell.region = RegionOfPoses(RecordedPoses(dataset, result));
   return cell;
 }

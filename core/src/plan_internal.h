@@ -15,13 +15,19 @@ namespace handeye::plan_internal {
 
 /// The cell in the solver's terms at the rough values: the unknowns' tangent
 /// coordinates in one vector (T_holder_target, then per camera its
-/// T_cam_mount and, when refined, fx fy cx cy).
+/// T_cam_mount and, when refined, fx fy cx cy; when given, the error of the
+/// given values: the focal length's relative error, one for fx and fy, and
+/// cx, cy, each where PlanCell::intrinsics_sigma makes it uncertain).
 struct Model {
   const PlanCell* cell = nullptr;
   int size = 0;                        ///< length of the unknowns' vector
   int target_offset = 0;               ///< T_holder_target's 6 tangent coordinates
   std::vector<int> camera_offset;      ///< T_cam_mount's 6, per camera
   std::vector<int> intrinsics_offset;  ///< fx fy cx cy, per camera; -1: fixed
+  /// Per camera: its given intrinsics' error coordinates; -1: refined, or exact.
+  std::vector<int> given_offset;
+  bool given_focal = false;            ///< the focal length's error is a coordinate
+  bool given_principal_point = false;  ///< cx's and cy's are
   std::vector<PoseParams> T_cam_mount;
   PoseParams T_holder_target{};
   /// Information of what is known before any view (the rough poses' ±, the

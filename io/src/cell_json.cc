@@ -125,10 +125,16 @@ PlanCell LoadPlanCell(const std::string& path) {
   ReadUncertainty(root.Key("target_pose_uncertainty"), &cell.target_position_sigma_m, &cell.target_rotation_sigma_rad);
   if (root.Has("noise")) {
     const JsonReader noise = root.Key("noise");
-    noise.RejectUnknownKeys({"pixel_sigma_px", "robot_sigma_mm", "robot_sigma_deg"});
+    noise.RejectUnknownKeys({"pixel_sigma_px", "robot_sigma_mm", "robot_sigma_deg", "intrinsics_sigma"});
     ReadOptional(noise, "pixel_sigma_px", &cell.pixel_sigma_px);
     ReadOptional(noise, "robot_sigma_mm", &cell.robot_sigma_mm);
     ReadOptional(noise, "robot_sigma_deg", &cell.robot_sigma_deg);
+    if (noise.Has("intrinsics_sigma")) {
+      const JsonReader given = noise.Key("intrinsics_sigma");
+      given.RejectUnknownKeys({"focal_percent", "principal_point_px"});
+      ReadOptional(given, "focal_percent", &cell.intrinsics_sigma.focal_percent);
+      ReadOptional(given, "principal_point_px", &cell.intrinsics_sigma.principal_point_px);
+    }
   }
   ReadRegion(root.Key("region"), &cell.region);
   if (root.Has("view")) {
@@ -166,7 +172,10 @@ void SavePlanCell(const PlanCell& cell, const std::string& path) {
                                   {"rotation_deg", cell.target_rotation_sigma_rad / kDeg}};
   j["noise"] = {{"pixel_sigma_px", cell.pixel_sigma_px},
                 {"robot_sigma_mm", cell.robot_sigma_mm},
-                {"robot_sigma_deg", cell.robot_sigma_deg}};
+                {"robot_sigma_deg", cell.robot_sigma_deg},
+                {"intrinsics_sigma",
+                 {{"focal_percent", cell.intrinsics_sigma.focal_percent},
+                  {"principal_point_px", cell.intrinsics_sigma.principal_point_px}}}};
   nlohmann::ordered_json region;
   if (cell.region.box)
     region["box_m"] = {{"min", {cell.region.box->min().x(), cell.region.box->min().y(), cell.region.box->min().z()}},

@@ -50,7 +50,10 @@ void SavePlan(const CapturePlan& plan, const PlanCell& cell, const PlanOptions& 
                   {"candidates", options.candidates}};
   j["noise"] = {{"pixel_sigma_px", cell.pixel_sigma_px},
                 {"robot_sigma_mm", cell.robot_sigma_mm},
-                {"robot_sigma_deg", cell.robot_sigma_deg}};
+                {"robot_sigma_deg", cell.robot_sigma_deg},
+                {"intrinsics_sigma",
+                 {{"focal_percent", cell.intrinsics_sigma.focal_percent},
+                  {"principal_point_px", cell.intrinsics_sigma.principal_point_px}}}};
   j["poses"] = nlohmann::ordered_json::array();
   for (const PlannedPose& pose : plan.poses)
     j["poses"].push_back({{"id", pose.id},

@@ -59,7 +59,10 @@ std::vector<PredictedSigma> SigmaOfSceneViews(const SyntheticScene& scene, const
 
 }  // namespace
 
-TEST_CASE("Without robot error the planner's sigma is the Cramer-Rao bound of the solve", "[plan]") {
+TEST_CASE(
+    "Without robot error and with the given intrinsics exact the planner's sigma is the Cramer-Rao "
+    "bound of the solve",
+    "[plan]") {
   SyntheticScene scene = MediumScene(15);
   std::mt19937_64 rng(1);
   AddProjectedObservations(&scene, 0.0, &rng);
@@ -73,12 +76,47 @@ TEST_CASE("Without robot error the planner's sigma is the Cramer-Rao bound of th
   }
   at.T_target = scene.truth.T_target;
   const PositionCovariance bound = ComputePositionCovariance(scene.dataset, at, 0.3);
-  const std::vector<PredictedSigma> sigma = SigmaOfSceneViews(scene, CellAtTruth(scene, 0, 0));
+  PlanCell cell = CellAtTruth(scene, 0, 0);
+  cell.intrinsics_sigma = {0.0, 0.0};  // the bound's: the given intrinsics exact
+  const std::vector<PredictedSigma> sigma = SigmaOfSceneViews(scene, cell);
   for (size_t k = 0; k < sigma.size(); ++k) {
     const double expected_mm = 1000.0 * std::sqrt(bound.camera_position.at(scene.dataset.cameras[k].name).trace());
     INFO(scene.dataset.cameras[k].name);
     CHECK(sigma[k].position_mm == Approx(expected_mm).epsilon(0.01));
   }
+}
+
+TEST_CASE("The planner's sigma carries the given intrinsics' uncertainty as the solve's does", "[plan]") {
+  SyntheticScene scene = MediumScene(15);
+  std::mt19937_64 rng(4);
+  AddProjectedObservations(&scene, 0.3, &rng);
+  CalibrationOptions options;
+  options.robot_sigma_mm = 0;  // the robot exact, as in the cell below
+  options.robot_sigma_deg = 0;
+  options.cross_terms = false;  // the planner's information has no pair terms
+  const CalibrationResult result = Calibrate(scene.dataset, options);
+  PlanCell cell = CellAtTruth(scene, 0, 0);
+  REQUIRE(cell.intrinsics_sigma.focal_percent == options.intrinsics_sigma.focal_percent);
+  REQUIRE(cell.intrinsics_sigma.principal_point_px == options.intrinsics_sigma.principal_point_px);
+  const std::vector<PredictedSigma> with = SigmaOfSceneViews(scene, cell);
+  cell.intrinsics_sigma = {0.0, 0.0};
+  const std::vector<PredictedSigma> without = SigmaOfSceneViews(scene, cell);
+  std::vector<double> ratios;
+  for (size_t k = 0; k < with.size(); ++k) {
+    const CameraResult& solved = result.cameras[k];
+    REQUIRE(solved.sigma);
+    INFO(solved.name << ": predicted " << with[k].position_mm << " mm (" << without[k].position_mm
+                     << " with exact intrinsics), reported " << solved.sigma->position_mm << " mm (own "
+                     << solved.sigma->OwnPositionMm() << ")");
+    ratios.push_back(with[k].position_mm / solved.sigma->position_mm);
+    // The views alone: the planner's and the solve's agree within 2 %.
+    CHECK(without[k].position_mm == Approx(solved.sigma->OwnPositionMm()).epsilon(0.02));
+    // With the given intrinsics' part (its noise shift a random draw in the solve).
+    CHECK(ratios.back() > 0.5);
+    CHECK(ratios.back() < 2.0);
+  }
+  std::sort(ratios.begin(), ratios.end());
+  CHECK(0.5 * (ratios[1] + ratios[2]) == Approx(1.0).epsilon(0.3));  // the median of 4
 }
 
 TEST_CASE("The robot's error prior makes every camera's predicted sigma larger", "[plan]") {
@@ -189,9 +227,13 @@ TEST_CASE("Advice after a capture that left a camera at 4 views goes to that cam
   const Advice advice = Advise(cell, recorded, options);
   REQUIRE(advice.next.poses.size() == 4);
   CHECK(advice.above_goal.size() == scene.dataset.cameras.size());
-  // Every proposal is seen by cam0, which it needs most, and halves its σ.
-  for (const PlannedPose& pose : advice.next.poses)
-    CHECK(std::find(pose.cameras.begin(), pose.cameras.end(), "cam0") != pose.cameras.end());
+  // cam0 is the worst camera now: the first proposal is for it (seen by it),
+  // and the four halve its σ. (Its σ, as every camera's, holds what the given
+  // intrinsics' uncertainty adds, so the later proposals go to the others.)
+  for (const auto& [name, sigma] : advice.now)
+    if (name != "cam0") CHECK(sigma.position_mm < advice.now.at("cam0").position_mm);
+  const std::vector<std::string>& first = advice.next.poses.front().cameras;
+  CHECK(std::find(first.begin(), first.end(), "cam0") != first.end());
   const double after = advice.next.poses.back().sigma_after.at("cam0").position_mm;
   CHECK(after < 0.5 * advice.now.at("cam0").position_mm);
   for (const PlannedPose& pose : advice.next.poses) CHECK(InRegion(cell.region, pose.T_base_ee));

@@ -44,9 +44,12 @@ std::string ErrorOf(const std::string& path) {
 
 TEST_CASE("A cell file reads back as it was written", "[plan][io]") {
   const std::string path = test::TempDir("cell_round_trip") + "/cell.json";
-  const PlanCell cell = SmallCell();
+  PlanCell cell = SmallCell();
+  cell.intrinsics_sigma = {0.5, 2.0};
   SavePlanCell(cell, path);
   const PlanCell back = LoadPlanCell(path);
+  CHECK(back.intrinsics_sigma.focal_percent == 0.5);
+  CHECK(back.intrinsics_sigma.principal_point_px == 2.0);
   REQUIRE(back.cameras.size() == 1);
   CHECK(back.cameras[0].camera.name == "left");
   CHECK(back.cameras[0].camera.fy() == 901);
@@ -79,4 +82,7 @@ TEST_CASE("A cell file's mistakes are named with their path", "[plan][io]") {
              Catch::Contains("/region/box_m") && Catch::Contains("min below max"));
   CHECK_THAT(with("\"max_deg\"", "\"max_dag\""), Catch::Contains("/region/tilt"));
   CHECK_THAT(with("\"handeye-cell/1\"", "\"handeye-cell/2\""), Catch::Contains("/format"));
+  CHECK_THAT(with("\"focal_percent\"", "\"focal\""), Catch::Contains("/noise/intrinsics_sigma"));
+  CHECK_THAT(with("\"principal_point_px\": 3", "\"principal_point_px\": -3"),
+             Catch::Contains("intrinsics_sigma"));
 }

@@ -12,7 +12,11 @@
 /// every robot pose a block under the robot's error prior (marginalised per
 /// pose), the detection noise σ on every target point, and the camera and
 /// target intrinsics that are unknowns of the solve (fx, fy, cx, cy of the
-/// cameras marked for refinement) as further blocks.
+/// cameras marked for refinement) as further blocks. The given intrinsics of
+/// the other cameras are uncertain inputs as in the solve
+/// (CalibrationOptions::intrinsics_sigma): unknowns under a prior of that σ,
+/// whose covariance of the camera's pose is the solve's "consider" covariance
+/// A⁻¹ + G Σ_post Gᵀ (see PoseUncertainty::from_given_intrinsics).
 
 #include <Eigen/Geometry>
 #include <map>
@@ -21,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "handeye/core/calibration.h"
 #include "handeye/core/camera.h"
 #include "handeye/core/dataset.h"
 #include "handeye/core/target.h"
@@ -73,6 +78,9 @@ struct PlanCell {
   double pixel_sigma_px = 0.2;       ///< detection noise σ per image axis
   double robot_sigma_mm = 0.3;       ///< robot pose error σ per axis of the flange position
   double robot_sigma_deg = 0.03;     ///< and of its rotation
+  /// How well the given intrinsics of the cameras not refined are known
+  /// (the solve's --intrinsics-sigma; {0, 0}: exact).
+  GivenIntrinsicsSigma intrinsics_sigma;
   PlanRegion region;
   ViewConstraints constraints;
   bool Check(std::string* why) const;
