@@ -17,11 +17,16 @@ namespace {
 
 using plan_internal::Model;
 
-/// What the greedy step minimises: Σ σ⁴ over the cameras' positions, a soft
-/// maximum that still rewards a pose for what it does for the other cameras.
+/// What the greedy step minimises: Σ σ⁴ over the cameras' positions from the
+/// views alone (own_position_mm), a soft maximum that still rewards a pose
+/// for what it does for the other cameras. Not the σ with the given
+/// intrinsics' part: the solve holds them, so that part shrinks only where the
+/// views pin the intrinsics, not where the pose is better determined; chasing
+/// it planned worse captures (bench/plan, rough poses ± 100 mm / 10°: worst
+/// camera 0.67 / 1.43 / 1.15× the sampler's against 1.08 / 1.50 / 1.83×).
 double Objective(const std::vector<PredictedSigma>& sigma) {
   double sum = 0;
-  for (const PredictedSigma& s : sigma) sum += std::pow(s.position_mm, 4);
+  for (const PredictedSigma& s : sigma) sum += std::pow(s.own_position_mm, 4);
   return sum;
 }
 

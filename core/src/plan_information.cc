@@ -198,7 +198,8 @@ std::vector<PredictedSigma> SigmaOf(const Model& model, const Eigen::MatrixXd& i
   // Gᵀ, 1.5-6 times, and the plans made for it were worse.)
   const size_t cameras = model.camera_offset.size();
   std::vector<PredictedSigma> out(
-      cameras, {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()});
+      cameras, {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+                std::numeric_limits<double>::infinity()});
   const Eigen::LLT<Eigen::MatrixXd> llt(information);
   if (llt.info() != Eigen::Success) return out;
   std::vector<int> c;
@@ -210,7 +211,7 @@ std::vector<PredictedSigma> SigmaOf(const Model& model, const Eigen::MatrixXd& i
   for (size_t k = 0; k < cameras; ++k) rhs.block(model.camera_offset[k], 6 * k, 6, 6).setIdentity();
   for (int j = 0; j < nc; ++j) rhs(c[j], 6 * cameras + j) = 1.0;
   const Eigen::MatrixXd columns = llt.solve(rhs);
-  Eigen::MatrixXd S;  // the views' information on c: (H⁻¹_cc)⁻¹ − P
+  Eigen::MatrixXd S, posterior_inverse;  // the views' information on c: (H⁻¹_cc)⁻¹ − P
   if (nc > 0) {
     Eigen::MatrixXd posterior(nc, nc), P(nc, nc);  // H⁻¹_cc = Σ_post, and c's prior
     for (int i = 0; i < nc; ++i)
@@ -218,17 +219,22 @@ std::vector<PredictedSigma> SigmaOf(const Model& model, const Eigen::MatrixXd& i
         posterior(i, j) = columns(c[i], 6 * cameras + j);
         P(i, j) = model.prior(c[i], c[j]);
       }
-    S = posterior.ldlt().solve(Eigen::MatrixXd::Identity(nc, nc)) - P;
+    posterior_inverse = posterior.ldlt().solve(Eigen::MatrixXd::Identity(nc, nc));
+    S = posterior_inverse - P;
   }
   for (size_t k = 0; k < cameras; ++k) {
     Eigen::Matrix<double, 6, 6> C = columns.block(model.camera_offset[k], 6 * k, 6, 6);
+    Eigen::Matrix<double, 6, 6> own = C;  // A⁻¹ = H⁻¹_xx − H⁻¹_xc Σ_post⁻¹ H⁻¹_cx
     if (S.size()) {
       const Eigen::MatrixXd X = columns.block(model.camera_offset[k], 6 * cameras, 6, nc);
       C += X * S * X.transpose();
+      own -= X * posterior_inverse * X.transpose();
     }
-    const PoseUncertainty u = internal::UncertaintyOf(FromPoseParams(model.T_cam_mount[k].data()),
-                                                      0.5 * (C + C.transpose()), true);
-    out[k] = {u.position_mm, u.rotation_deg};
+    const Eigen::Isometry3d T_cam_mount = FromPoseParams(model.T_cam_mount[k].data());
+    const PoseUncertainty u = internal::UncertaintyOf(T_cam_mount, 0.5 * (C + C.transpose()), true);
+    const PoseUncertainty u_own =
+        internal::UncertaintyOf(T_cam_mount, 0.5 * (own + own.transpose()), true);
+    out[k] = {u.position_mm, u.rotation_deg, u_own.position_mm};
   }
   return out;
 }

@@ -18,7 +18,8 @@ constexpr char kPlanFormat[] = "handeye-plan/1";
 
 nlohmann::ordered_json SigmaJson(const std::map<std::string, PredictedSigma>& sigma) {
   nlohmann::ordered_json out = nlohmann::ordered_json::object();
-  for (const auto& [name, s] : sigma) out[name] = {{"position_mm", s.position_mm}, {"rotation_deg", s.rotation_deg}};
+  for (const auto& [name, s] : sigma)
+    out[name] = {{"position_mm", s.position_mm}, {"rotation_deg", s.rotation_deg}, {"own_position_mm", s.own_position_mm}};
   return out;
 }
 

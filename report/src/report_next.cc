@@ -37,11 +37,16 @@ NextCapture AdviseNext(const Dataset& dataset, const CalibrationResult& result,
 namespace {
 
 void PredictedNow(const NextCapture& next, std::ostream& out) {
-  out << "<table class=\"small\"><tr><th>camera</th><th>σ now, mm</th><th>σ now, °</th></tr>\n";
+  out << "<table class=\"small\"><tr><th>camera</th><th>σ now, mm</th><th>from the views alone, "
+         "mm</th><th>σ now, °</th></tr>\n";
   for (const auto& [name, sigma] : next.advice.now)
     out << "<tr><td>" << Escape(name) << "</td><td>" << Num(sigma.position_mm, 3) << "</td><td>"
-        << Num(sigma.rotation_deg, 4) << "</td></tr>\n";
-  out << "</table>\n";
+        << Num(sigma.own_position_mm, 3) << "</td><td>" << Num(sigma.rotation_deg, 4)
+        << "</td></tr>\n";
+  out << "</table>\n<p>σ holds what the given intrinsics' uncertainty adds; more poses shrink only "
+         "the part from the views, so the poses below are chosen for it. The rest shrinks with "
+         "better intrinsics (<code>--refine-intrinsics</code>, or a new intrinsics "
+         "calibration).</p>\n";
   if (next.goal_mm <= 0) return;
   if (next.advice.above_goal.empty()) {
     out << "<p>Every camera is predicted within the goal of " << Num(next.goal_mm, 3)

@@ -62,13 +62,17 @@ TEST_CASE("report: what to capture next names the camera above the goal and pose
   const std::string section = html.substr(html.find("<h2 id=\"next\">"));
   CHECK_THAT(section, Contains("Predicted above the goal of 0.001 mm: <b>cam0</b> <b>cam1</b> "
                                "<b>cam2</b> <b>cam3</b>."));
-  // σ now, per camera: the worst one is the camera the first proposal is for.
-  const std::regex now_row("<tr><td>(cam[0-9])</td><td>([0-9.]+)</td>");
+  // σ now, per camera, and its part from the views alone: the camera worst
+  // in that part is the one the first proposal is for.
+  const std::regex now_row("<tr><td>(cam[0-9])</td><td>([0-9.]+)</td><td>([0-9.]+)</td>");
   std::string worst;
-  double worst_mm = 0;
+  double worst_mm = 0, worst_own_mm = 0;
   for (auto m = std::sregex_iterator(section.begin(), section.end(), now_row);
-       m != std::sregex_iterator(); ++m)
-    if (std::stod((*m)[2]) > worst_mm) worst_mm = std::stod((*m)[2]), worst = (*m)[1];
+       m != std::sregex_iterator(); ++m) {
+    CHECK(std::stod((*m)[3]) <= std::stod((*m)[2]));
+    worst_mm = std::max(worst_mm, std::stod((*m)[2]));
+    if (std::stod((*m)[3]) > worst_own_mm) worst_own_mm = std::stod((*m)[3]), worst = (*m)[1];
+  }
   REQUIRE_FALSE(worst.empty());
   // The proposals: one row per pose (pose id, position, rpy, seen by, σ after per camera).
   const std::string proposals = section.substr(section.find("T_base_ee position, mm"));

@@ -91,6 +91,9 @@ struct PlanCell {
 struct PredictedSigma {
   double position_mm = 0;
   double rotation_deg = 0;
+  /// position_mm without what the given intrinsics' uncertainty adds: the
+  /// views alone (as PoseUncertainty::OwnPositionMm).
+  double own_position_mm = 0;
 };
 
 /// One planned pose.
