@@ -41,6 +41,10 @@ struct Settings {
   double uncertainty_margin = PlanOptions{}.uncertainty_margin;
   // The given intrinsics off (even cameras +, odd −): focal %, principal point px.
   double focal_off_percent = 0, principal_point_off_px = 0;
+  // Plan for and solve with --refine-intrinsics focal,principal_point; and
+  // also solve the planned capture with the true intrinsics and with none.
+  bool refine_intrinsics = false;
+  bool no_intrinsics = false;  // the dataset gives no intrinsics (set per solve)
 };
 
 /// One capture's outcome against the truth.
@@ -66,6 +70,7 @@ Outcome Solve(const SyntheticScene& scene, const Settings& settings) {
   Outcome out;
   try {
     CalibrationOptions options;
+    if (settings.refine_intrinsics) options.refine_intrinsics = kFocal | kPrincipalPoint;
     if (settings.given_robot_sigma) {
       options.robot_sigma_mm = settings.robot_mm;
       options.robot_sigma_deg = settings.robot_deg / std::sqrt(3.0);
@@ -80,6 +85,7 @@ Outcome Solve(const SyntheticScene& scene, const Settings& settings) {
       params[1] *= 1.0 + sign * settings.focal_off_percent / 100.0;
       params[2] += sign * settings.principal_point_off_px;
       params[3] += sign * settings.principal_point_off_px;
+      if (settings.no_intrinsics) dataset.cameras[k].has_intrinsics = false;
     }
     const CalibrationResult result = Calibrate(dataset, options);
     const Evaluation evaluation = EvaluateAgainstTruth(result, scene.truth);
@@ -99,6 +105,27 @@ Outcome Solve(const SyntheticScene& scene, const Settings& settings) {
     out.why = e.what();
   }
   return out;
+}
+
+/// The sampler's and the planned capture solved with the true intrinsics
+/// ("true"), the given ones off and refined ("refined", what `settings`
+/// asks), off and held ("held") and none given ("none"): mean errors into `variants`.
+void SolveVariants(const SyntheticScene& sampler, const SyntheticScene& planned, const Settings& settings,
+                   std::map<std::string, std::vector<double>>* variants) {
+  Settings exact = settings, held = settings, none = settings;
+  exact.focal_off_percent = exact.principal_point_off_px = 0;
+  exact.refine_intrinsics = false;
+  held.refine_intrinsics = false;
+  none.no_intrinsics = true;
+  using Variant = std::pair<const char*, const Settings*>;
+  for (const auto& [capture, scene] : {std::make_pair("sampler", &sampler), std::make_pair("planned", &planned)})
+    for (const auto& [name, variant] : {Variant("true", &exact), Variant("refined", &settings),
+                                        Variant("held", &held), Variant("none", &none)}) {
+      const Outcome o = Solve(*scene, *variant);
+      if (!o.solved) std::fprintf(stderr, "  %s/%s: %s\n", capture, name, o.why.c_str());
+      if (o.solved) (*variants)[std::string(capture) + "/" + name].push_back(o.mean_mm);
+      (*variants)[std::string(capture) + "/" + name + "/tried"].push_back(o.solved ? 1 : 0);
+    }
 }
 
 SceneOptions Options(const std::string& cell, int cameras, int poses, std::uint64_t seed, const Settings& s) {
@@ -123,7 +150,8 @@ CapturePlan PlanFor(const SyntheticScene& sampler, std::uint64_t seed, const Set
   rough.pixel_sigma_px = s.noise_px;
   rough.position_mm = s.rough_mm;
   rough.rotation_deg = s.rough_deg;
-  const PlanCell cell = PlanCellOfScene(sampler, rough);
+  PlanCell cell = PlanCellOfScene(sampler, rough);
+  for (PlanCamera& camera : cell.cameras) camera.refine_intrinsics = s.refine_intrinsics;
   PlanOptions plan_options;
   plan_options.uncertainty_margin = s.uncertainty_margin;
   plan_options.poses = s.planned_poses;
@@ -166,6 +194,9 @@ int main(int argc, char** argv) {
                  "PlanOptions::uncertainty_margin: share of the rough ± kept free around the target (0-1)");
   app.add_flag("--given-robot-sigma", s.given_robot_sigma,
                "solve with the true robot error as the prior (default: the solve estimates it)");
+  app.add_flag("--refine-intrinsics", s.refine_intrinsics,
+               "plan for and solve with --refine-intrinsics focal,principal_point, and table each capture "
+               "solved with the true intrinsics, the given ones (--intrinsics-off) refined or held, and none");
   std::string intrinsics_off = "0/0";
   app.add_option("--intrinsics-off", intrinsics_off,
                  "PCT/PX: the given intrinsics off by PCT % in focal length and PX in the principal point "
@@ -184,8 +215,13 @@ int main(int argc, char** argv) {
   Table table({"cell", "cameras", "seeds solved", "mean err sampler mm", "mean err planned mm", "worst err sampler mm",
                "worst err planned mm", "worst improvement", "predicted/reported sigma (median, min, max)",
                "RMS true err / RMS predicted sigma", "RMS true err / RMS reported sigma", "plans failed", "planned views seen whole / claimed"});
+  // With --refine-intrinsics: each capture solved with the true intrinsics,
+  // with the given ones (off by --intrinsics-off) refined, and with none.
+  Table refinement({"cell", "cameras", "capture", "seeds solved", "true intrinsics mm", "off, refined mm",
+                    "refined / true", "off, held mm", "no intrinsics mm", "none / true"});
   for (size_t c = 0; c < cell_names.size(); ++c) {
     const int cameras = std::stoi(camera_counts[std::min(c, camera_counts.size() - 1)]);
+    std::map<std::string, std::vector<double>> variants;  // capture/variant -> mean error per seed
     std::vector<double> mean_sampler, mean_planned, worst_sampler, worst_planned, ratios;
     std::vector<double> predicted_sigma, reported_sigma, planned_errors;  // per camera of the planned captures
     int solved = 0, failed_plans = 0, claimed_views = 0, whole_views = 0;
@@ -216,6 +252,7 @@ int main(int argc, char** argv) {
         continue;
       }
       ++solved;
+      if (s.refine_intrinsics) SolveVariants(sampler, planned, s, &variants);
       mean_sampler.push_back(a.mean_mm);
       mean_planned.push_back(b.mean_mm);
       worst_sampler.push_back(a.worst_mm);
@@ -237,6 +274,31 @@ int main(int argc, char** argv) {
                   failed_plans, seeds);
       continue;
     }
+    for (const std::string capture : {"sampler", "planned"}) {
+      if (!s.refine_intrinsics) break;
+      const auto& v = variants;
+      // Mean over the seeds that solved; "failed" where none did.
+      auto mean = [&](const std::string& name) {
+        const auto it = v.find(capture + "/" + name);
+        return it == v.end() || it->second.empty() ? NAN : Mean(it->second);
+      };
+      auto solved_of = [&](const std::string& name) {
+        const std::vector<double>& tried = v.at(capture + "/" + name + "/tried");
+        return Format("%d/%d", static_cast<int>(std::count(tried.begin(), tried.end(), 1.0)),
+                      static_cast<int>(tried.size()));
+      };
+      auto mm = [&](const std::string& name) {
+        return std::isnan(mean(name)) ? std::string("failed") : Format("%.3f", mean(name));
+      };
+      auto ratio = [&](const std::string& name) {
+        return std::isnan(mean(name)) ? std::string("-") : Format("%.2fx", mean(name) / mean("true"));
+      };
+      refinement.Add({cell_names[c], std::to_string(cameras),
+                      capture == "sampler" ? Format("sampler, %d poses", s.sampler_poses)
+                                           : Format("planned, %d poses", s.planned_poses),
+                      solved_of("true"), mm("true"), mm("refined"), ratio("refined"), mm("held"),
+                      mm("none") + " (" + solved_of("none") + " solved)", ratio("none")});
+    }
     const double lo = *std::min_element(ratios.begin(), ratios.end());
     const double hi = *std::max_element(ratios.begin(), ratios.end());
     table.Add({cell_names[c], std::to_string(cameras), Format("%d/%d", solved, seeds),
@@ -249,5 +311,6 @@ int main(int argc, char** argv) {
                Format("%d/%d", whole_views, claimed_views)});
   }
   std::printf("%s", table.Markdown().c_str());
+  if (s.refine_intrinsics) std::printf("\n%s", refinement.Markdown().c_str());
   return 0;
 }
