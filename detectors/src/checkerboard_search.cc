@@ -53,12 +53,9 @@ struct Level {
   cv::Mat image;
 };
 
-/// A grid that was found but rejected: the full-image region around it, and
-/// whether it is the board itself (most of its corners are X-junctions, not
-/// clutter) rather than something else that the detector took for one.
+/// A grid that was found but rejected: the full-image region around it.
 struct Candidate {
   cv::Rect region;
-  bool board = false;
 };
 
 /// A part of the full image that may hold a checkerboard's inner corners,
@@ -212,12 +209,11 @@ std::optional<Grid> GridInLattice(const cv::Mat& gray, const Lattice& lattice, i
 /// image). A crop costs a few ms where the whole image costs 25, 70 or 285 ms
 /// (1/4, 1/2, full resolution of 1920x1080), so the common case is a crop at
 /// 1/4 plus the refinement on the board's bounding box. The whole image is
-/// still searched at every level when the crops fail: the sector detector is
+/// still searched at 1/4 and 1/2 when the crops fail: the sector detector is
 /// not monotonic in what it is shown, and it found boards in whole images (10
-/// px squares, some oblique views) that it missed in crops around them. Only
-/// the full-resolution one, a quarter of a second, is left out once a rejected
-/// grid was the board itself: it can only find a second board, and a
-/// calibration target is one.
+/// px squares, some oblique views) that it missed in crops around them. The
+/// full-resolution whole image, a quarter of a second, is searched only where
+/// it is the first level (an image too small for coarser ones).
 ///
 /// Without CALIB_CB_ACCURACY, SB sometimes returns a grid shifted by one line
 /// onto the ends of the outer black squares (seen on a board turned by about
@@ -275,12 +271,7 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
     for (const Candidate& c : candidates)
       if (2 * (c.region & around).area() > std::min(c.region.area(), around.area()))
         return Outcome::kRejected;
-    // The board itself, seen but not verified (as on boards seen very
-    // obliquely), if three quarters of its corners are X-junctions even
-    // before refinement.
-    int junctions = 0;
-    for (const auto& p : seen.px) junctions += LooksLikeXJunction(gray, p, 0.35 * square);
-    candidates.push_back({around, 4 * junctions >= 3 * static_cast<int>(seen.px.size())});
+    candidates.push_back({around});
     return Outcome::kRejected;
   };
 
@@ -378,15 +369,19 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
           return grid;
       }
     }
-    // The whole image, except at full resolution once a rejected grid was the
-    // board, and not at all once a lattice held the board's corners (all but
-    // at most one) and they did not verify: a board seen too obliquely or too
-    // small to refine (on METRIC, 6 images at 0.1-0.9 s each of whole-image
-    // searches that found none of them; on 11 rendered cells and the
-    // METRIC-like preset as captured, 980 views, skipping them lost no view).
-    const bool board_seen = std::any_of(candidates.begin(), candidates.end(),
-                                        [](const Candidate& c) { return c.board; });
-    if ((f > 1 || !board_seen) && !lattice_window) {
+    // The whole image, but not at full resolution once a coarser level was
+    // searched whole (only an image too small for coarser levels is searched
+    // whole at full resolution), and not at all once a lattice held the
+    // board's corners (all but at most one) and they did not verify: a board
+    // seen too obliquely or too small to refine (on METRIC, 6 images at
+    // 0.1-0.9 s each of whole-image searches that found none of them; on 11
+    // rendered cells and the METRIC-like preset as captured, 980 views,
+    // skipping them lost no view). The full-resolution search, 285 ms of
+    // 1920x1080, found no board on METRIC (1004 images), the METRIC-like
+    // preset (608), three rendered cells (480) nor ViSP's Franka chessboard
+    // set (8): the boards it could find are found in crops or at 1/2, and the
+    // images it ran on (a small oblique board in clutter) took 0.38-0.41 s.
+    if ((f > 1 || first) && !lattice_window) {
       const int whole_flags = first && f > 1 ? quick : thorough;
       if (search(level, whole_image, whole_flags) == Outcome::kFound) return grid;
     }
