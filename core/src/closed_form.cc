@@ -159,12 +159,42 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> VispHandEye(const
   return std::make_pair(T_cam_mount, *TargetGivenCamera(problem, camera, T_cam_mount));
 }
 
+/// OpenCV 4.6's Tsai, Horaud and Daniilidis forms go wrong on motion pairs
+/// whose rotation is large: Tsai's linear system is near singular towards a
+/// half turn, and Horaud's and Daniilidis' (dual) quaternions of the two
+/// motions of a pair may come out with opposite signs once the rotation
+/// passes 120° (OpenCV issue 24871, fixed in 4.10). A camera's views easily
+/// span more, turned about the board's normal: on a rendered small
+/// eye_to_hand cell with exact data they were 1.8-3.2 m off. These forms get
+/// the largest set of the camera's views within kHalfSpread of one of them
+/// (every pair then within 2 · kHalfSpread), or every view when that set has
+/// fewer than three.
+constexpr double kHalfSpreadRad = 55.0 * M_PI / 180.0;
+
+std::vector<int> ViewsWithinSpread(const Problem& problem, int camera) {
+  const std::vector<int>& all = problem.camera_views[camera];
+  std::vector<int> best;
+  for (int r : all) {
+    const Eigen::Matrix3d R_r = problem.T_mount_holder[problem.views[r].pose].rotation();
+    std::vector<int> near;
+    for (int v : all)
+      if (RotationDistance(problem.T_mount_holder[problem.views[v].pose].rotation(), R_r) <=
+          kHalfSpreadRad)
+        near.push_back(v);
+    if (near.size() > best.size()) best = std::move(near);
+  }
+  return best.size() >= 3 ? best : all;
+}
+
 // Both setups map onto OpenCV's eye-in-hand form by passing T_holder_mount as
 // "gripper2base": T_holder_mount[j] · T_mount_cam · T_cam_target[j] = T_holder_target for every j.
 std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> OpenCvHandEye(
     const Problem& problem, int camera, cv::HandEyeCalibrationMethod method, std::string* why) {
   std::vector<cv::Mat> R_gripper2base, t_gripper2base, R_target2cam, t_target2cam;
-  for (int v : problem.camera_views[camera]) {
+  const bool spread_limited = method == cv::CALIB_HAND_EYE_TSAI ||
+                              method == cv::CALIB_HAND_EYE_HORAUD ||
+                              method == cv::CALIB_HAND_EYE_DANIILIDIS;
+  for (int v : spread_limited ? ViewsWithinSpread(problem, camera) : problem.camera_views[camera]) {
     const View& view = problem.views[v];
     const Eigen::Isometry3d T_holder_mount = problem.T_mount_holder[view.pose].inverse();
     R_gripper2base.push_back(RotationToCv(T_holder_mount));

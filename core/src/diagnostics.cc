@@ -73,6 +73,83 @@ double DisplacementPx(const Problem& problem, int k, const Eigen::Isometry3d& T_
   return n ? sum / n : 0.0;
 }
 
+std::vector<Warning> QualityWarnings(
+    const Problem& problem, const CalibrationOptions& options, const CalibrationResult& result,
+    const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
+    const TargetPoses& T_holder_target) {
+  const QualityThresholds& warn = options.warn;
+  std::vector<Warning> warnings;
+  for (size_t k = 0; k < result.cameras.size(); ++k) {
+    const CameraResult& cam = result.cameras[k];
+    if (!cam.calibrated) continue;  // warned about where it was left out
+    const std::string name = "camera '" + cam.name + "'";
+    if (cam.views < warn.min_views_per_camera)
+      warnings.push_back(CameraWarning(
+          WarningKind::kFewViews, cam.name,
+          name + ": few views, only " + std::to_string(cam.views) + " used (fewer than " +
+              std::to_string(warn.min_views_per_camera) +
+              "); one bad pose moves its result visibly; add robot poses in its view"));
+    if (cam.rotation_spread_deg < warn.min_rotation_spread_deg)
+      warnings.push_back(CameraWarning(
+          WarningKind::kPoorRotationSpread, cam.name,
+          name + ": poor rotation diversity, its views differ in robot rotation by at most " +
+              Fixed(cam.rotation_spread_deg, 1) + "° (< " + Fixed(warn.min_rotation_spread_deg, 0) +
+              "°); tilt the target more between poses"));
+    else if (cam.axis_spread_deg < warn.min_axis_spread_deg)
+      warnings.push_back(CameraWarning(
+          WarningKind::kPoorRotationAxes, cam.name,
+          name + ": poor rotation diversity, the robot motions between its views turn about " +
+              "nearly one axis (largest angle between axes " + Fixed(cam.axis_spread_deg, 1) +
+              "° < " + Fixed(warn.min_axis_spread_deg, 0) + "°); rotate about a second axis too"));
+    if (warn.max_camera_rms_px > 0 && cam.rms_px > warn.max_camera_rms_px)
+      warnings.push_back(CameraWarning(WarningKind::kLargeResiduals, cam.name,
+                                       name + ": large residuals, RMS " + Fixed(cam.rms_px, 2) +
+                                           " px through the calibrated chain (> " +
+                                           Fixed(warn.max_camera_rms_px, 2) + " px)"));
+    if (cam.outliers > 0) {
+      std::string list;
+      int listed = 0;
+      for (size_t i = 0; i < problem.views.size(); ++i) {
+        const ViewResult& view = result.views[i];
+        if (problem.views[i].camera != static_cast<int>(k) || !view.outlier) continue;
+        if (listed++ == 5) {
+          list += ", …";
+          break;
+        }
+        list += (list.empty() ? "" : ", ") + std::string("pose ") + view.pose_id + " (RMS " +
+                Fixed(view.rms_px, 2) + " px)";
+      }
+      warnings.push_back(CameraWarning(WarningKind::kOutlierViews, cam.name,
+                                       name + ": " + std::to_string(cam.outliers) +
+                                           (cam.outliers == 1 ? " view" : " views") +
+                                           " down-weighted as outliers by the solver: " + list));
+    }
+    if (cam.closed_form && cam.closed_form->available && warn.max_closed_form_disagreement_px > 0 &&
+        cam.closed_form->displacement_px > warn.max_closed_form_disagreement_px) {
+      const std::string cause =
+          T_cam_mount[k] ? DisagreementCause(problem, static_cast<int>(k), *T_cam_mount[k],
+                                             T_holder_target[k], result.method, *cam.closed_form,
+                                             warn.max_closed_form_disagreement_px)
+                         : "";
+      warnings.push_back(CameraWarning(
+          WarningKind::kClosedFormDisagrees, cam.name,
+          name + ": the result and " + AuthorName(cam.closed_form->method) +
+              "'s per-camera closed form disagree by " +
+              Fixed(cam.closed_form->displacement_px, 1) + " px in the image (" +
+              Fixed(cam.closed_form->translation_mm, 1) + " mm, " +
+              Fixed(cam.closed_form->rotation_deg, 2) + "°; threshold " +
+              Fixed(warn.max_closed_form_disagreement_px, 0) + " px); " +
+              (cause.empty()
+                   ? "the closed forms disagree among themselves too: check this camera's "
+                     "robot poses and views"
+                   : cause)));
+    }
+  }
+  return warnings;
+}
+
+}  // namespace
+
 ClosedFormComparison CompareWithClosedForm(const Problem& problem, int k,
                                            const Eigen::Isometry3d& T_cam_mount,
                                            const Eigen::Isometry3d& T_holder_target,
@@ -165,83 +242,6 @@ std::string DisagreementCause(const Problem& problem, int k, const Eigen::Isomet
          "the solve, not the robot, is the odd one out (another minimum, or this camera's views at "
          "odds with the other cameras'); compare with --method per-camera";
 }
-
-std::vector<Warning> QualityWarnings(
-    const Problem& problem, const CalibrationOptions& options, const CalibrationResult& result,
-    const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-    const TargetPoses& T_holder_target) {
-  const QualityThresholds& warn = options.warn;
-  std::vector<Warning> warnings;
-  for (size_t k = 0; k < result.cameras.size(); ++k) {
-    const CameraResult& cam = result.cameras[k];
-    if (!cam.calibrated) continue;  // warned about where it was left out
-    const std::string name = "camera '" + cam.name + "'";
-    if (cam.views < warn.min_views_per_camera)
-      warnings.push_back(CameraWarning(
-          WarningKind::kFewViews, cam.name,
-          name + ": few views, only " + std::to_string(cam.views) + " used (fewer than " +
-              std::to_string(warn.min_views_per_camera) +
-              "); one bad pose moves its result visibly; add robot poses in its view"));
-    if (cam.rotation_spread_deg < warn.min_rotation_spread_deg)
-      warnings.push_back(CameraWarning(
-          WarningKind::kPoorRotationSpread, cam.name,
-          name + ": poor rotation diversity, its views differ in robot rotation by at most " +
-              Fixed(cam.rotation_spread_deg, 1) + "° (< " + Fixed(warn.min_rotation_spread_deg, 0) +
-              "°); tilt the target more between poses"));
-    else if (cam.axis_spread_deg < warn.min_axis_spread_deg)
-      warnings.push_back(CameraWarning(
-          WarningKind::kPoorRotationAxes, cam.name,
-          name + ": poor rotation diversity, the robot motions between its views turn about " +
-              "nearly one axis (largest angle between axes " + Fixed(cam.axis_spread_deg, 1) +
-              "° < " + Fixed(warn.min_axis_spread_deg, 0) + "°); rotate about a second axis too"));
-    if (warn.max_camera_rms_px > 0 && cam.rms_px > warn.max_camera_rms_px)
-      warnings.push_back(CameraWarning(WarningKind::kLargeResiduals, cam.name,
-                                       name + ": large residuals, RMS " + Fixed(cam.rms_px, 2) +
-                                           " px through the calibrated chain (> " +
-                                           Fixed(warn.max_camera_rms_px, 2) + " px)"));
-    if (cam.outliers > 0) {
-      std::string list;
-      int listed = 0;
-      for (size_t i = 0; i < problem.views.size(); ++i) {
-        const ViewResult& view = result.views[i];
-        if (problem.views[i].camera != static_cast<int>(k) || !view.outlier) continue;
-        if (listed++ == 5) {
-          list += ", …";
-          break;
-        }
-        list += (list.empty() ? "" : ", ") + std::string("pose ") + view.pose_id + " (RMS " +
-                Fixed(view.rms_px, 2) + " px)";
-      }
-      warnings.push_back(CameraWarning(WarningKind::kOutlierViews, cam.name,
-                                       name + ": " + std::to_string(cam.outliers) +
-                                           (cam.outliers == 1 ? " view" : " views") +
-                                           " down-weighted as outliers by the solver: " + list));
-    }
-    if (cam.closed_form && cam.closed_form->available && warn.max_closed_form_disagreement_px > 0 &&
-        cam.closed_form->displacement_px > warn.max_closed_form_disagreement_px) {
-      const std::string cause =
-          T_cam_mount[k] ? DisagreementCause(problem, static_cast<int>(k), *T_cam_mount[k],
-                                             T_holder_target[k], result.method, *cam.closed_form,
-                                             warn.max_closed_form_disagreement_px)
-                         : "";
-      warnings.push_back(CameraWarning(
-          WarningKind::kClosedFormDisagrees, cam.name,
-          name + ": the result and " + AuthorName(cam.closed_form->method) +
-              "'s per-camera closed form disagree by " +
-              Fixed(cam.closed_form->displacement_px, 1) + " px in the image (" +
-              Fixed(cam.closed_form->translation_mm, 1) + " mm, " +
-              Fixed(cam.closed_form->rotation_deg, 2) + "°; threshold " +
-              Fixed(warn.max_closed_form_disagreement_px, 0) + " px); " +
-              (cause.empty()
-                   ? "the closed forms disagree among themselves too: check this camera's "
-                     "robot poses and views"
-                   : cause)));
-    }
-  }
-  return warnings;
-}
-
-}  // namespace
 
 PoseDifference DifferenceOf(const Eigen::Isometry3d& T_a, const Eigen::Isometry3d& T_b) {
   PoseDifference out;

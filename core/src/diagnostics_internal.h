@@ -52,6 +52,23 @@ struct AxzbOfView {
 AxzbOfView Axzb(const Eigen::Isometry3d& T_cam_target_pnp, const Eigen::Isometry3d& T_cam_mount,
                 const Eigen::Isometry3d& T_mount_holder, const Eigen::Isometry3d& T_holder_target);
 
+/// Camera k of the solution (T_cam_mount, T_holder_target) against the
+/// closed form `method` on the camera's own views: how far apart the two
+/// camera poses are, and by how many pixels the target's points move in the
+/// camera's image between them.
+ClosedFormComparison CompareWithClosedForm(const Problem& problem, int k,
+                                           const Eigen::Isometry3d& T_cam_mount,
+                                           const Eigen::Isometry3d& T_holder_target,
+                                           Method method);
+
+/// What a disagreement of the solution with the closed form `compared`
+/// points at, judged by the other closed forms (see diagnostics.cc): the
+/// compared closed form that failed, the result's own method that failed,
+/// the solve; empty when the closed forms disagree among themselves too.
+std::string DisagreementCause(const Problem& problem, int k, const Eigen::Isometry3d& T_cam_mount,
+                              const Eigen::Isometry3d& T_holder_target, Method result_method,
+                              const ClosedFormComparison& compared, double threshold_px);
+
 /// Per view and per camera residuals, AX = ZB, motion diversity and (with
 /// options.compare_closed_form) the closed-form comparison of the solution
 /// (T_cam_mount, T_holder_target), written into `result`, whose views (in problem.views order) and
