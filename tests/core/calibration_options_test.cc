@@ -28,7 +28,7 @@ TEST_CASE("every method's name parses back to the method, and names are unique",
   CHECK(std::string(MethodName(static_cast<Method>(999))) == "unknown");
 }
 
-TEST_CASE("--refine-intrinsics groups: each name, combinations, all, and what is refused",
+TEST_CASE("The --refine-intrinsics groups: each name, combinations, all, and what is refused",
           "[options]") {
   std::string why;
   CHECK(ParseIntrinsicsGroups("focal", &why) == unsigned{kFocal});
@@ -51,8 +51,9 @@ TEST_CASE("--refine-intrinsics groups: each name, combinations, all, and what is
   CHECK_FALSE(ParseIntrinsicsGroups("FOCAL", nullptr));  // no reason asked: still refused
 }
 
-TEST_CASE("--intrinsics-sigma: items, defaults for the items left out, 0, and what is refused",
-          "[options]") {
+TEST_CASE(
+    "The --intrinsics-sigma syntax: items, defaults for the items left out, 0, and what is refused",
+    "[options]") {
   std::string why;
   const GivenIntrinsicsSigma defaults{1.0, 3.0};
   auto parsed = ParseIntrinsicsSigma("focal=0.5%,principal_point=2px", &why, defaults);

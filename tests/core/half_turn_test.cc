@@ -2,14 +2,17 @@
 // 180°-ambiguous checkerboards (core/src/half_turn.cc) on their own: the half
 // turn of a board, a view numbered the other way round, and the numbering of
 // a whole capture made alike from the robot's motions.
+// clang-format off
+// Before Catch, so that CHECK is Catch's, not glog's (which Ceres' headers define).
+#include "problem.h"
+#include "view_consensus.h"
+// clang-format on
 #include <catch2/catch.hpp>
 #include <map>
 #include <set>
 
 #include "handeye/core/checkerboard.h"
-#include "problem.h"
 #include "support/projected_scene.h"
-#include "view_consensus.h"
 
 using namespace handeye;
 

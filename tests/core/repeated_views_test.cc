@@ -3,12 +3,15 @@
 // it leaves out, what each says, when it stops the calibration, and what it
 // leaves alone (other cameras, points that differ in one bit, views too
 // small to tell).
+// clang-format off
+// Before Catch, so that CHECK is Catch's, not glog's (which Ceres' headers define).
+#include "problem.h"
+#include "setup_mistakes.h"
+// clang-format on
 #include <catch2/catch.hpp>
 #include <string>
 
 #include "handeye/core/error.h"
-#include "problem.h"
-#include "setup_mistakes.h"
 #include "support/projected_scene.h"
 
 using namespace handeye;
