@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-#include <catch2/catch.hpp>
+// clang-format off
+// Before Catch, so that CHECK is Catch's, not glog's (which Ceres' headers define).
+#include "cost_functions.h"
+// clang-format on
 #include <array>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <memory>
 #include <utility>
-
-#include "cost_functions.h"
 
 // glog (through Ceres) defines its own CHECK; this file uses Catch's REQUIRE.
 
@@ -15,20 +17,23 @@ namespace {
 
 // The reference each cost's Create() is checked against: ceres'
 // autodiff of the functor's templated operator().
-ceres::CostFunction* AutoDiff(const Camera& camera, const Eigen::Isometry3d& M, ViewPoints points, double a) {
+ceres::CostFunction* AutoDiff(const Camera& camera, const Eigen::Isometry3d& M, ViewPoints points,
+                              double a) {
   const int residuals = 2 * static_cast<int>(points.p_target.size());
   return new ceres::AutoDiffCostFunction<ViewReprojectionError, ceres::DYNAMIC, 7, 7>(
       new ViewReprojectionError(camera, M, std::move(points), a), residuals);
 }
 
-ceres::CostFunction* AutoDiffWithIntrinsics(const Camera& camera, const Eigen::Isometry3d& M, ViewPoints points,
-                                            double a) {
+ceres::CostFunction* AutoDiffWithIntrinsics(const Camera& camera, const Eigen::Isometry3d& M,
+                                            ViewPoints points, double a) {
   const int residuals = 2 * static_cast<int>(points.p_target.size());
-  return new ceres::AutoDiffCostFunction<ViewReprojectionError, ceres::DYNAMIC, 7, 7, OpenCVCameraModel::kNumParams>(
+  return new ceres::AutoDiffCostFunction<ViewReprojectionError, ceres::DYNAMIC, 7, 7,
+                                         OpenCVCameraModel::kNumParams>(
       new ViewReprojectionError(camera, M, std::move(points), a), residuals);
 }
 
-ceres::CostFunction* AutoDiffCross(const Camera& camera_k, const Eigen::Isometry3d& M, ViewPoints points, double a) {
+ceres::CostFunction* AutoDiffCross(const Camera& camera_k, const Eigen::Isometry3d& M,
+                                   ViewPoints points, double a) {
   const int residuals = 2 * static_cast<int>(points.p_target.size());
   return new ceres::AutoDiffCostFunction<ViewCrossReprojectionError, ceres::DYNAMIC, 7, 7, 7>(
       new ViewCrossReprojectionError(camera_k, M, std::move(points), a), residuals);
@@ -42,7 +47,8 @@ ceres::CostFunction* AutoDiffWithRobot(const Camera& camera, ViewPoints points, 
 
 Camera TestCamera() {
   std::string why;
-  return *Camera::Make("cam", 1920, 1080, 1400, 1395, 955, 545, {-0.1, 0.03, 0.001, -0.002, 0.004}, &why);
+  return *Camera::Make("cam", 1920, 1080, 1400, 1395, 955, 545, {-0.1, 0.03, 0.001, -0.002, 0.004},
+                       &why);
 }
 
 struct Chain {
@@ -116,7 +122,8 @@ TEST_CASE("View reprojection gives the exact residuals of the chain", "[cost]") 
   }
 
   // Cross term: T_camk_camt · X_t reproduces X_k.
-  std::unique_ptr<ceres::CostFunction> cross(ViewCrossReprojectionError::Create(camera, c.M, view, 0.0));
+  std::unique_ptr<ceres::CostFunction> cross(
+      ViewCrossReprojectionError::Create(camera, c.M, view, 0.0));
   PoseParams T_kt = ToPoseParams(c.X * c.X_t.inverse()), Xt = ToPoseParams(c.X_t);
   const double* cross_params[] = {T_kt.data(), Xt.data(), Z.data()};
   REQUIRE(cross->Evaluate(cross_params, r, nullptr));
@@ -132,7 +139,8 @@ TEST_CASE("The robust residuals square to the per-point Cauchy cost", "[cost]") 
   std::vector<Eigen::Vector2d> offsets;
   const ViewPoints view = Offsets(camera, c, &offsets);
   for (double a : {0.5, 1.0, 4.0}) {
-    std::unique_ptr<ceres::CostFunction> robust(ViewReprojectionError::Create(camera, c.M, view, a));
+    std::unique_ptr<ceres::CostFunction> robust(
+        ViewReprojectionError::Create(camera, c.M, view, a));
     PoseParams X = ToPoseParams(c.X), Z = ToPoseParams(c.Z);
     const double* params[] = {X.data(), Z.data()};
     double r[6];
@@ -142,7 +150,8 @@ TEST_CASE("The robust residuals square to the per-point Cauchy cost", "[cost]") 
       const double rho = a * a * std::log1p(s / (a * a));
       REQUIRE(r[2 * i] * r[2 * i] + r[2 * i + 1] * r[2 * i + 1] == Approx(rho).epsilon(1e-12));
       // Same direction as the plain residual.
-      REQUIRE(r[2 * i] * offsets[i].y() - r[2 * i + 1] * offsets[i].x() == Approx(0.0).margin(1e-9));
+      REQUIRE(r[2 * i] * offsets[i].y() - r[2 * i + 1] * offsets[i].x() ==
+              Approx(0.0).margin(1e-9));
     }
   }
 }
@@ -157,7 +166,8 @@ TEST_CASE("Cost functor derivatives agree with central differences", "[cost]") {
     const double rpj_error = WorstJacobianError(*rpj, {ToPoseParams(c.X), ToPoseParams(c.Z)});
     INFO("cauchy scale " << a << ", reprojection: worst relative Jacobian error " << rpj_error);
     REQUIRE(rpj_error < 1e-5);
-    std::unique_ptr<ceres::CostFunction> cross(ViewCrossReprojectionError::Create(camera, c.M, view, a));
+    std::unique_ptr<ceres::CostFunction> cross(
+        ViewCrossReprojectionError::Create(camera, c.M, view, a));
     const double cross_error = WorstJacobianError(
         *cross, {ToPoseParams(c.X * c.X_t.inverse()), ToPoseParams(c.X_t), ToPoseParams(c.Z)});
     INFO("cross: worst relative Jacobian error " << cross_error);
@@ -181,7 +191,8 @@ double WorstDifferenceAnySize(const ceres::CostFunction& a, const ceres::CostFun
     pa.push_back(ja[i].data());
     pb.push_back(jb[i].data());
   }
-  if (!a.Evaluate(params.data(), ra.data(), pa.data()) || !b.Evaluate(params.data(), rb.data(), pb.data()))
+  if (!a.Evaluate(params.data(), ra.data(), pa.data()) ||
+      !b.Evaluate(params.data(), rb.data(), pb.data()))
     return 1e300;
   double worst = 0;
   for (int i = 0; i < m; ++i) worst = std::max(worst, std::abs(ra[i] - rb[i]));
@@ -207,11 +218,12 @@ TEST_CASE("Chain-rule derivatives equal autodiff over every parameter", "[cost]"
     std::unique_ptr<ceres::CostFunction> fast(ViewReprojectionError::Create(camera, c.M, view, a));
     std::unique_ptr<ceres::CostFunction> reference(AutoDiff(camera, c.M, view, a));
     REQUIRE(WorstDifference(*fast, *reference, {ToPoseParams(c.X), ToPoseParams(c.Z)}) < 1e-9);
-    std::unique_ptr<ceres::CostFunction> fast_cross(ViewCrossReprojectionError::Create(camera, c.M, view, a));
-    std::unique_ptr<ceres::CostFunction> reference_cross(
-        AutoDiffCross(camera, c.M, view, a));
+    std::unique_ptr<ceres::CostFunction> fast_cross(
+        ViewCrossReprojectionError::Create(camera, c.M, view, a));
+    std::unique_ptr<ceres::CostFunction> reference_cross(AutoDiffCross(camera, c.M, view, a));
     REQUIRE(WorstDifference(*fast_cross, *reference_cross,
-                            {ToPoseParams(c.X * c.X_t.inverse()), ToPoseParams(c.X_t), ToPoseParams(c.Z)}) < 1e-9);
+                            {ToPoseParams(c.X * c.X_t.inverse()), ToPoseParams(c.X_t),
+                             ToPoseParams(c.Z)}) < 1e-9);
   }
 }
 
@@ -221,7 +233,8 @@ TEST_CASE("A residual of zero keeps finite derivatives under the robust loss", "
   ViewPoints view;
   view.p_target = {{0.05, 0.05, 0.0}};
   view.observed_px = {*camera.Project(c.X * c.M * c.Z * view.p_target[0])};
-  std::unique_ptr<ceres::CostFunction> robust(ViewReprojectionError::Create(camera, c.M, view, 1.0));
+  std::unique_ptr<ceres::CostFunction> robust(
+      ViewReprojectionError::Create(camera, c.M, view, 1.0));
   PoseParams X = ToPoseParams(c.X), Z = ToPoseParams(c.Z);
   const double* params[] = {X.data(), Z.data()};
   double r[2], jx[14], jz[14];
@@ -235,25 +248,26 @@ TEST_CASE("Chain-rule derivatives equal autodiff with every distortion term", "[
   // Rational, thin-prism and tilted-sensor terms all go through the
   // per-point distortion jets of the fast path.
   std::string why;
-  const auto camera =
-      Camera::Make("full", 1920, 1080, 1400, 1395, 955, 545,
-                   {-0.1, 0.03, 0.001, -0.002, 0.004, 0.02, -0.01, 0.005, 0.001, -0.0005, 0.0008, 0.0002,
-                    0.01, -0.02},
-                   &why);
+  const auto camera = Camera::Make("full", 1920, 1080, 1400, 1395, 955, 545,
+                                   {-0.1, 0.03, 0.001, -0.002, 0.004, 0.02, -0.01, 0.005, 0.001,
+                                    -0.0005, 0.0008, 0.0002, 0.01, -0.02},
+                                   &why);
   REQUIRE(camera);
   const Chain c;
   std::vector<Eigen::Vector2d> offsets;
   const ViewPoints view = Offsets(*camera, c, &offsets);
   const auto shared = std::make_shared<const ViewPoints>(view);
   for (double a : {0.0, 1.0}) {
-    std::unique_ptr<ceres::CostFunction> fast(ViewReprojectionError::Create(*camera, c.M, shared, a));
+    std::unique_ptr<ceres::CostFunction> fast(
+        ViewReprojectionError::Create(*camera, c.M, shared, a));
     std::unique_ptr<ceres::CostFunction> reference(AutoDiff(*camera, c.M, view, a));
     REQUIRE(WorstDifference(*fast, *reference, {ToPoseParams(c.X), ToPoseParams(c.Z)}) < 1e-9);
-    std::unique_ptr<ceres::CostFunction> fast_cross(ViewCrossReprojectionError::Create(*camera, c.M, view, a));
-    std::unique_ptr<ceres::CostFunction> reference_cross(
-        AutoDiffCross(*camera, c.M, view, a));
+    std::unique_ptr<ceres::CostFunction> fast_cross(
+        ViewCrossReprojectionError::Create(*camera, c.M, view, a));
+    std::unique_ptr<ceres::CostFunction> reference_cross(AutoDiffCross(*camera, c.M, view, a));
     REQUIRE(WorstDifference(*fast_cross, *reference_cross,
-                            {ToPoseParams(c.X * c.X_t.inverse()), ToPoseParams(c.X_t), ToPoseParams(c.Z)}) < 1e-9);
+                            {ToPoseParams(c.X * c.X_t.inverse()), ToPoseParams(c.X_t),
+                             ToPoseParams(c.Z)}) < 1e-9);
   }
 }
 
@@ -264,11 +278,14 @@ TEST_CASE("The cross term is the reprojection term in Y = T_camk_camt · X_t", "
   std::vector<Eigen::Vector2d> offsets;
   const ViewPoints view = Offsets(camera, c, &offsets);
   // A pair transform that does not reproduce X_k, so the residuals are not small.
-  const Eigen::Isometry3d T_kt = MakeTransformFromRotationVector({0.01, -0.02, 0.03}, {0.01, 0.0, -0.02}) *
-                                 c.X * c.X_t.inverse();
+  const Eigen::Isometry3d T_kt =
+      MakeTransformFromRotationVector({0.01, -0.02, 0.03}, {0.01, 0.0, -0.02}) * c.X *
+      c.X_t.inverse();
   for (double a : {0.0, 1.0}) {
-    std::unique_ptr<ceres::CostFunction> cross(ViewCrossReprojectionError::Create(camera, c.M, view, a));
-    std::unique_ptr<ceres::CostFunction> direct(ViewReprojectionError::Create(camera, c.M, view, a));
+    std::unique_ptr<ceres::CostFunction> cross(
+        ViewCrossReprojectionError::Create(camera, c.M, view, a));
+    std::unique_ptr<ceres::CostFunction> direct(
+        ViewReprojectionError::Create(camera, c.M, view, a));
     PoseParams T = ToPoseParams(T_kt), Xt = ToPoseParams(c.X_t), Z = ToPoseParams(c.Z);
     PoseParams Y = ToPoseParams(T_kt * c.X_t);
     const double* cross_params[] = {T.data(), Xt.data(), Z.data()};
@@ -289,10 +306,11 @@ TEST_CASE("The cost with the robot pose as a block: derivatives and values", "[c
   std::vector<Eigen::Vector2d> offsets;
   const ViewPoints view = Offsets(camera, c, &offsets);
   for (double a : {0.0, 1.0}) {
-    std::unique_ptr<ceres::CostFunction> fast(
-        ViewReprojectionWithRobotError::Create(camera, std::make_shared<const ViewPoints>(view), a));
+    std::unique_ptr<ceres::CostFunction> fast(ViewReprojectionWithRobotError::Create(
+        camera, std::make_shared<const ViewPoints>(view), a));
     std::unique_ptr<ceres::CostFunction> reference(AutoDiffWithRobot(camera, view, a));
-    const std::vector<PoseParams> blocks = {ToPoseParams(c.X), ToPoseParams(c.M), ToPoseParams(c.Z)};
+    const std::vector<PoseParams> blocks = {ToPoseParams(c.X), ToPoseParams(c.M),
+                                            ToPoseParams(c.Z)};
     REQUIRE(WorstDifference(*fast, *reference, blocks) < 1e-9);
     REQUIRE(WorstJacobianError(*fast, blocks) < 1e-5);
     // With the robot pose as given, the same residuals as the fixed-M cost.
@@ -308,10 +326,12 @@ TEST_CASE("The cost with the robot pose as a block: derivatives and values", "[c
 }
 
 TEST_CASE("The robot pose prior weighs rotation and displacement by their sigma", "[cost]") {
-  const Eigen::Isometry3d reported = MakeTransformFromRotationVector({0.4, 0.2, -0.3}, {0.5, 0.1, 1.0});
+  const Eigen::Isometry3d reported =
+      MakeTransformFromRotationVector({0.4, 0.2, -0.3}, {0.5, 0.1, 1.0});
   // The flange 2 mm off along x and turned 0.1° about z (base frame, about the flange).
   Eigen::Isometry3d moved = reported;
-  moved.linear() = Eigen::AngleAxisd(0.1 * M_PI / 180.0, Eigen::Vector3d::UnitZ()) * reported.linear();
+  moved.linear() =
+      Eigen::AngleAxisd(0.1 * M_PI / 180.0, Eigen::Vector3d::UnitZ()) * reported.linear();
   moved.translation().x() += 0.002;
   for (bool inverse : {false, true}) {
     std::unique_ptr<ceres::CostFunction> prior(
@@ -333,30 +353,32 @@ TEST_CASE("The robot pose prior weighs rotation and displacement by their sigma"
 
 namespace {
 
-std::vector<double> IntrinsicsBlock(const Camera& camera) { return {camera.params.begin(), camera.params.end()}; }
+std::vector<double> IntrinsicsBlock(const Camera& camera) {
+  return {camera.params.begin(), camera.params.end()};
+}
 
 }  // namespace
 
-TEST_CASE("With the intrinsics as unknowns, chain-rule derivatives equal autodiff", "[cost][intrinsics]") {
+TEST_CASE("With the intrinsics as unknowns, chain-rule derivatives equal autodiff",
+          "[cost][intrinsics]") {
   std::string why;
-  const auto rational = Camera::Make("rational", 1920, 1080, 1400, 1395, 955, 545,
-                                     {-0.1, 0.03, 0.001, -0.002, 0.004, 0.02, -0.01, 0.005, 0.001, -0.0005,
-                                      0.0008, 0.0002},
-                                     &why);
+  const auto rational = Camera::Make(
+      "rational", 1920, 1080, 1400, 1395, 955, 545,
+      {-0.1, 0.03, 0.001, -0.002, 0.004, 0.02, -0.01, 0.005, 0.001, -0.0005, 0.0008, 0.0002}, &why);
   REQUIRE(rational);
   for (const Camera& camera : {TestCamera(), *rational}) {
     const Chain c;
     std::vector<Eigen::Vector2d> offsets;
     const ViewPoints view = Offsets(camera, c, &offsets);
     for (double a : {0.0, 1.0}) {
-      std::unique_ptr<ceres::CostFunction> fast(
-          ViewReprojectionError::Create(camera, c.M, std::make_shared<const ViewPoints>(view), a, true));
-      std::unique_ptr<ceres::CostFunction> reference(
-          AutoDiffWithIntrinsics(camera, c.M, view, a));
+      std::unique_ptr<ceres::CostFunction> fast(ViewReprojectionError::Create(
+          camera, c.M, std::make_shared<const ViewPoints>(view), a, true));
+      std::unique_ptr<ceres::CostFunction> reference(AutoDiffWithIntrinsics(camera, c.M, view, a));
       REQUIRE(fast->parameter_block_sizes().size() == 3);
       const PoseParams X = ToPoseParams(c.X), Z = ToPoseParams(c.Z);
-      CHECK(WorstDifferenceAnySize(*fast, *reference,
-                                   {{X.begin(), X.end()}, {Z.begin(), Z.end()}, IntrinsicsBlock(camera)}) < 1e-9);
+      CHECK(WorstDifferenceAnySize(
+                *fast, *reference,
+                {{X.begin(), X.end()}, {Z.begin(), Z.end()}, IntrinsicsBlock(camera)}) < 1e-9);
     }
   }
 }
@@ -366,8 +388,8 @@ TEST_CASE("The intrinsics derivatives agree with central differences", "[cost][i
   const Chain c;
   std::vector<Eigen::Vector2d> offsets;
   const ViewPoints view = Offsets(camera, c, &offsets);
-  std::unique_ptr<ceres::CostFunction> cost(
-      ViewReprojectionError::Create(camera, c.M, std::make_shared<const ViewPoints>(view), 1.0, true));
+  std::unique_ptr<ceres::CostFunction> cost(ViewReprojectionError::Create(
+      camera, c.M, std::make_shared<const ViewPoints>(view), 1.0, true));
   PoseParams X = ToPoseParams(c.X), Z = ToPoseParams(c.Z);
   std::vector<double> K = IntrinsicsBlock(camera);
   const int m = cost->num_residuals();

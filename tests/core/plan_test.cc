@@ -1,17 +1,21 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Capture planning (core/plan.h): its information is the solve's, its poses
 // stay in the region, and it says when a goal or a camera is out of reach.
-#include <catch2/catch.hpp>
+// clang-format off
+// Before Catch, so that CHECK is Catch's, not glog's (which Ceres' headers define).
+#include "plan_internal.h"
+// clang-format on
+#include "handeye/core/plan.h"
+
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 
 #include "handeye/core/checkerboard.h"
-#include "handeye/core/plan.h"
 #include "handeye/core/plan_advice.h"
 #include "handeye/core/uncertainty.h"
 #include "handeye/sim/plan_cell.h"
 #include "handeye/sim/synthetic.h"
-#include "plan_internal.h"
 
 using namespace handeye;
 
@@ -51,7 +55,8 @@ std::vector<PredictedSigma> SigmaOfSceneViews(const SyntheticScene& scene, const
   Eigen::MatrixXd information = model.prior;
   for (const auto& pose : scene.truth.poses) {
     std::vector<int> cameras;
-    for (const auto& [name, obs] : pose.points_px) cameras.push_back(scene.dataset.CameraIndex(name));
+    for (const auto& [name, obs] : pose.points_px)
+      cameras.push_back(scene.dataset.CameraIndex(name));
     information += plan_internal::PoseInformation(model, pose.T_base_ee_true, cameras);
   }
   return plan_internal::SigmaOf(model, information);
@@ -80,13 +85,15 @@ TEST_CASE(
   cell.intrinsics_sigma = {0.0, 0.0};  // the bound's: the given intrinsics exact
   const std::vector<PredictedSigma> sigma = SigmaOfSceneViews(scene, cell);
   for (size_t k = 0; k < sigma.size(); ++k) {
-    const double expected_mm = 1000.0 * std::sqrt(bound.camera_position.at(scene.dataset.cameras[k].name).trace());
+    const double expected_mm =
+        1000.0 * std::sqrt(bound.camera_position.at(scene.dataset.cameras[k].name).trace());
     INFO(scene.dataset.cameras[k].name);
     CHECK(sigma[k].position_mm == Approx(expected_mm).epsilon(0.01));
   }
 }
 
-TEST_CASE("The planner's sigma carries the given intrinsics' uncertainty as the solve's does", "[plan]") {
+TEST_CASE("The planner's sigma carries the given intrinsics' uncertainty as the solve's does",
+          "[plan]") {
   SyntheticScene scene = MediumScene(15);
   std::mt19937_64 rng(4);
   AddProjectedObservations(&scene, 0.3, &rng);
@@ -106,8 +113,8 @@ TEST_CASE("The planner's sigma carries the given intrinsics' uncertainty as the 
     const CameraResult& solved = result.cameras[k];
     REQUIRE(solved.sigma);
     INFO(solved.name << ": predicted " << with[k].position_mm << " mm (" << without[k].position_mm
-                     << " with exact intrinsics), reported " << solved.sigma->position_mm << " mm (own "
-                     << solved.sigma->OwnPositionMm() << ")");
+                     << " with exact intrinsics), reported " << solved.sigma->position_mm
+                     << " mm (own " << solved.sigma->OwnPositionMm() << ")");
     ratios.push_back(with[k].position_mm / solved.sigma->position_mm);
     // The views alone: the planner's and the solve's agree within 2 %.
     CHECK(without[k].position_mm == Approx(solved.sigma->OwnPositionMm()).epsilon(0.02));
@@ -132,10 +139,12 @@ TEST_CASE("The robot's error prior makes every camera's predicted sigma larger",
   }
 }
 
-TEST_CASE("Planned poses lie in the region and the tilt limits, and each adds what it says", "[plan]") {
+TEST_CASE("Planned poses lie in the region and the tilt limits, and each adds what it says",
+          "[plan]") {
   const SyntheticScene scene = MediumScene(1);
   PlanCell cell = PlanCellOfScene(scene, RoughKnowledge{});
-  cell.region.box = Eigen::AlignedBox3d(Eigen::Vector3d(-0.8, -0.8, 0.8), Eigen::Vector3d(0.8, 0.8, 1.4));
+  cell.region.box =
+      Eigen::AlignedBox3d(Eigen::Vector3d(-0.8, -0.8, 0.8), Eigen::Vector3d(0.8, 0.8, 1.4));
   // The tool axis within 70 degrees of horizontal-outward is not a box rule:
   // tilt it about the vertical instead, within 100 degrees of up.
   cell.region.tilt_axis = Eigen::Vector3d::UnitZ();
@@ -163,12 +172,14 @@ TEST_CASE("Planned poses lie in the region and the tilt limits, and each adds wh
   }
   // The σ after the last pose is that of the whole list.
   for (const auto& [name, sigma] : PredictSigma(cell, so_far))
-    CHECK(sigma.position_mm == Approx(plan.poses.back().sigma_after.at(name).position_mm).epsilon(1e-6));
+    CHECK(sigma.position_mm ==
+          Approx(plan.poses.back().sigma_after.at(name).position_mm).epsilon(1e-6));
   // Every camera is covered.
   for (const auto& [name, sigma] : plan.poses.back().sigma_after) CHECK(sigma.position_mm < 5.0);
 }
 
-TEST_CASE("With a goal the plan has the fewest poses that reach it, or says it is out of reach", "[plan]") {
+TEST_CASE("With a goal the plan has the fewest poses that reach it, or says it is out of reach",
+          "[plan]") {
   const SyntheticScene scene = MediumScene(1);
   const PlanCell cell = PlanCellOfScene(scene, RoughKnowledge{});
   PlanOptions options;
@@ -178,7 +189,8 @@ TEST_CASE("With a goal the plan has the fewest poses that reach it, or says it i
   REQUIRE(ten.failure.empty());
   auto worst_after = [&](size_t n) {
     double worst = 0;
-    for (const auto& [name, sigma] : ten.poses[n - 1].sigma_after) worst = std::max(worst, sigma.position_mm);
+    for (const auto& [name, sigma] : ten.poses[n - 1].sigma_after)
+      worst = std::max(worst, sigma.position_mm);
     return worst;
   };
   options.goal_mm = worst_after(7);
@@ -193,22 +205,26 @@ TEST_CASE("With a goal the plan has the fewest poses that reach it, or says it i
   options.poses = 5;
   const CapturePlan unreachable = PlanCapture(cell, options);
   CHECK(unreachable.poses.size() == 5);
-  CHECK_THAT(unreachable.failure, Catch::Contains("not reached within 5 poses: the best reachable is"));
+  CHECK_THAT(unreachable.failure,
+             Catch::Contains("not reached within 5 poses: the best reachable is"));
 }
 
 TEST_CASE("A region no camera can see is a failure that says so", "[plan]") {
   const SyntheticScene scene = MediumScene(1);
   PlanCell cell = PlanCellOfScene(scene, RoughKnowledge{});
   // Below the floor, where the target is never in view of the cameras high on the walls.
-  cell.region.box = Eigen::AlignedBox3d(Eigen::Vector3d(-0.05, -0.05, -3.0), Eigen::Vector3d(0.05, 0.05, -2.9));
+  cell.region.box =
+      Eigen::AlignedBox3d(Eigen::Vector3d(-0.05, -0.05, -3.0), Eigen::Vector3d(0.05, 0.05, -2.9));
   PlanOptions options;
   options.candidates = 300;
   const CapturePlan plan = PlanCapture(cell, options);
   CHECK(plan.poses.empty());
-  CHECK_THAT(plan.failure, Catch::Contains("no pose in the region lets any camera see the whole target"));
+  CHECK_THAT(plan.failure,
+             Catch::Contains("no pose in the region lets any camera see the whole target"));
 }
 
-TEST_CASE("Advice after a capture that left a camera at 4 views goes to that camera", "[plan][advise]") {
+TEST_CASE("Advice after a capture that left a camera at 4 views goes to that camera",
+          "[plan][advise]") {
   SyntheticScene scene = MediumScene(24, 8);
   std::mt19937_64 rng(2);
   AddProjectedObservations(&scene, 0.2, &rng);
