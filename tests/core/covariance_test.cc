@@ -15,8 +15,11 @@
 #include <cmath>
 #include <random>
 
+#include "handeye/core/error.h"
+#include "handeye/core/uncertainty.h"
 #include "problem.h"
 #include "support/linear_problem.h"
+#include "support/projected_scene.h"
 
 using handeye::internal::BlockCovariance;
 using handeye::internal::PoseManifold;
@@ -142,6 +145,37 @@ TEST_CASE("BlockCovariance: fewer residuals than unknowns give no blocks") {
   const double *pa = linear.block(a), *pb = linear.block(b);
   const BlockCovariance covariance(&problem, {{pa, pa}, {pa, pb}, {pb, pb}}, algorithm);
   CHECK_FALSE(covariance.ok());
+}
+
+TEST_CASE("The noise-only bound refuses views with fewer points than it has unknowns") {
+  // One camera's pose and the target's: 12 unknowns. Three views of one
+  // point give 6 residuals of full rank, which only the count shows singular.
+  handeye::SyntheticScene scene = handeye::test::ProjectedScene("small", 1, 5, 31, 0.0);
+  handeye::CalibrationResult at;
+  handeye::CameraResult camera;
+  camera.name = scene.dataset.cameras[0].name;
+  camera.calibrated = true;
+  camera.T_cam = scene.truth.T_cam.at(camera.name);
+  at.cameras.push_back(camera);
+  at.T_target = scene.truth.T_target;
+  const size_t points = GENERATE(size_t{1}, size_t{40});
+  auto& observations = scene.dataset.observations;
+  REQUIRE(observations.size() >= 3);
+  observations.resize(3);
+  for (handeye::Observation& view : observations) {
+    REQUIRE(view.ids.size() >= 40);
+    view.ids.resize(points);
+    view.points_px.resize(points);
+  }
+  if (points == 1) {
+    CHECK_THROWS_AS(handeye::ComputePositionCovariance(scene.dataset, at, 0.3),
+                    handeye::SolveError);
+  } else {
+    // The control: three views of 40 points do fix both poses.
+    const handeye::PositionCovariance bound =
+        handeye::ComputePositionCovariance(scene.dataset, at, 0.3);
+    CHECK(bound.camera_position.at(camera.name).trace() > 0);
+  }
 }
 
 TEST_CASE(
