@@ -76,16 +76,18 @@ class LinearProblem {
   const std::vector<Term>& terms() const { return terms_; }
 
   /// Adds the blocks and the terms to `problem` (which takes the manifolds
-  /// and costs it is given).
-  void Build(ceres::Problem* problem) {
+  /// and costs it is given); returns the terms' residual blocks.
+  std::vector<ceres::ResidualBlockId> Build(ceres::Problem* problem) {
     for (size_t k = 0; k < values_.size(); ++k)
       problem->AddParameterBlock(values_[k].data(), static_cast<int>(values_[k].size()),
                                  manifolds_[k] ? manifolds_[k]() : nullptr);
+    std::vector<ceres::ResidualBlockId> ids;
     for (const Term& term : terms_) {
       std::vector<double*> blocks;
       for (int k : term.blocks) blocks.push_back(values_[k].data());
-      problem->AddResidualBlock(new LinearCost(term.A, term.b), nullptr, blocks);
+      ids.push_back(problem->AddResidualBlock(new LinearCost(term.A, term.b), nullptr, blocks));
     }
+    return ids;
   }
 
   /// d(ambient) / d(tangent) of block k at its values (the identity off manifolds).
