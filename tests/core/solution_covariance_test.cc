@@ -41,9 +41,10 @@ std::vector<double> PoseAt(double angle_rad, double x) {
 
 /// The blocks of a joint solve, each view seeing all of them linearly: 8
 /// residuals per view, two views per robot pose; intrinsics fx, fy, cx, cy
-/// free. `singular`: the views do not see cy (a zero column).
+/// free. `singular`: the views do not see cy (a zero column). `prior`: cx
+/// and cy under a prior L (K₂,₃ − given) of information P = LᵀL.
 struct JointCell {
-  explicit JointCell(bool singular) {
+  explicit JointCell(bool singular, bool prior = false) {
     std::mt19937_64 rng(41);
     cam = linear.AddBlock(PoseAt(0.4, 0.3), [] { return new PoseManifold; });
     target = linear.AddBlock(PoseAt(-1.1, -0.2), [] { return new PoseManifold; });
@@ -67,6 +68,14 @@ struct JointCell {
     }
     for (int j = 0; j < kRobotPoses; ++j)
       linear.AddTerm({robot[j]}, {RandomMatrix(6, 7, &rng)}, RandomMatrix(6, 1, &rng));
+    if (prior) {
+      Eigen::Matrix2d L;
+      L << 3.0, 0.0, 1.0, 2.0;
+      Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2, kN);
+      A.middleCols(2, 2) = L;
+      linear.AddTerm({intrinsics}, {A}, L * Eigen::Vector2d(321.0, 239.0));
+      principal_point_information = L.transpose() * L;
+    }
     const std::vector<ceres::ResidualBlockId> ids = linear.Build(&problem);
     views.assign(ids.begin(), ids.begin() + 2 * kRobotPoses);
     for (int j = 0; j < kRobotPoses; ++j)
@@ -75,10 +84,14 @@ struct JointCell {
 
   handeye::internal::Refinement Covariance(const RobotPrior& prior) {
     ConsiderCovariance nothing_held({}, Eigen::MatrixXd(), Eigen::MatrixXd());
+    return Covariance(prior, &nothing_held);
+  }
+  handeye::internal::Refinement Covariance(const RobotPrior& prior,
+                                           ConsiderCovariance* covariance) {
     handeye::internal::Refinement out;
     handeye::internal::SolutionCovariance(&problem, {linear.block(cam)}, linear.block(target),
                                           {linear.block(intrinsics)}, views, prior, robot_poses,
-                                          &nothing_held, 1, &out);
+                                          covariance, 1, &out);
     return out;
   }
 
@@ -108,6 +121,7 @@ struct JointCell {
   std::vector<int> robot;
   std::vector<ceres::ResidualBlockId> views;
   std::vector<RobotPoseBlock> robot_poses;
+  Eigen::Matrix2d principal_point_information = Eigen::Matrix2d::Zero();
 };
 
 RobotPrior Prior(double settled_m, double settled_rad) {
@@ -166,4 +180,44 @@ TEST_CASE("SolutionCovariance: intrinsics the views cannot see leave no covarian
   // Free intrinsics infinite, held ones exact.
   for (int p = 0; p < kN; ++p)
     CHECK(out.intrinsics_sigma[0][p] == (p < 4 ? std::numeric_limits<double>::infinity() : 0.0));
+}
+
+TEST_CASE("SolutionCovariance: held intrinsics under their own prior add what freeing them would") {
+  // cx, cy held (consider coordinates) with Σ = σ² P⁻¹, the prior the
+  // problem holds: held + considered is the covariance with them free.
+  JointCell cell(false, true);
+  const RobotPrior as_solved = Prior(0.001, 0.002);
+  const double variance_factor = handeye::internal::VarianceFactor(&cell.problem, cell.views);
+  const double* K = cell.linear.block(cell.intrinsics);
+  ConsiderCovariance covariance({{K, {2, 3}}},
+                                variance_factor * cell.principal_point_information.inverse(),
+                                cell.principal_point_information);
+  const handeye::internal::Refinement out = cell.Covariance(as_solved, &covariance);
+  REQUIRE(out.T_cam_mount_covariance[0]);
+  REQUIRE(out.T_cam_mount_intrinsics_covariance[0]);
+  REQUIRE(out.T_holder_target_covariance);
+  const Eigen::MatrixXd J = cell.linear.TangentJacobian();
+  const Eigen::MatrixXd freed = variance_factor * (J.transpose() * J).lu().inverse();
+  // Held: the tangent columns of cx and cy out.
+  std::vector<int> free;
+  for (int i = 0; i < J.cols(); ++i)
+    if (i != cell.linear.Offset(cell.intrinsics) + 2 &&
+        i != cell.linear.Offset(cell.intrinsics) + 3)
+      free.push_back(i);
+  const Eigen::MatrixXd J_free = J(Eigen::all, free);
+  const Eigen::MatrixXd held = variance_factor * (J_free.transpose() * J_free).lu().inverse();
+  const Eigen::MatrixXd cam_held = held.topLeftCorner(6, 6);
+  REQUIRE_FALSE(cam_held.isApprox(cell.Of(freed, cell.cam), 0.01));
+  CHECK(Eigen::MatrixXd(*out.T_cam_mount_covariance[0]).isApprox(cam_held, 1e-8));
+  CHECK(Eigen::MatrixXd(*out.T_cam_mount_covariance[0] + *out.T_cam_mount_intrinsics_covariance[0])
+            .isApprox(cell.Of(freed, cell.cam), 1e-8));
+  // T_holder_target's covariance has the held inputs' part in it.
+  CHECK(
+      Eigen::MatrixXd(*out.T_holder_target_covariance).isApprox(cell.Of(freed, cell.target), 1e-8));
+  // fx, fy from the solve with cx, cy held; cx, cy themselves 0 here.
+  const int k = cell.linear.Offset(cell.intrinsics);
+  CHECK(out.intrinsics_sigma[0][0] == Approx(std::sqrt(held(k, k))).epsilon(1e-8));
+  CHECK(out.intrinsics_sigma[0][1] == Approx(std::sqrt(held(k + 1, k + 1))).epsilon(1e-8));
+  CHECK(out.intrinsics_sigma[0][2] == 0.0);
+  CHECK(out.intrinsics_sigma[0][3] == 0.0);
 }
