@@ -4,6 +4,22 @@
 #include "covariance.h"
 
 namespace handeye::internal {
+namespace {
+
+/// Fewer residuals than free tangent coordinates: JᵀJ is singular, which
+/// DENSE_SVD does not see (Ceres' thin SVD of J has one singular value per
+/// residual then, none of them 0, and it returns the pseudo-inverse).
+bool FewerResidualsThanUnknowns(const ceres::Problem& problem) {
+  std::vector<double*> blocks;
+  problem.GetParameterBlocks(&blocks);
+  int unknowns = 0;
+  for (const double* block : blocks)
+    if (!problem.IsParameterBlockConstant(block))
+      unknowns += problem.ParameterBlockTangentSize(block);
+  return problem.NumResiduals() < unknowns;
+}
+
+}  // namespace
 
 BlockCovariance::BlockCovariance(ceres::Problem* problem, const Pairs& pairs,
                                  ceres::CovarianceAlgorithmType algorithm, int threads)
@@ -12,7 +28,7 @@ BlockCovariance::BlockCovariance(ceres::Problem* problem, const Pairs& pairs,
   options.algorithm_type = algorithm;
   options.num_threads = threads;
   covariance_ = std::make_unique<ceres::Covariance>(options);
-  ok_ = covariance_->Compute(pairs, problem_);
+  ok_ = !FewerResidualsThanUnknowns(*problem) && covariance_->Compute(pairs, problem_);
 }
 
 BlockCovariance::~BlockCovariance() = default;
