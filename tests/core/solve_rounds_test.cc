@@ -2,14 +2,18 @@
 // The rounds around the nonlinear solve (core/src/solve_rounds.cc) on their
 // own: what RobustSolve excludes, keeps and sets between solves, with a solve
 // that returns the truth of a simulated cell; and the leave-one-pose-out check.
+// Core's headers before Catch: their Ceres headers define glog's CHECK,
+// which Catch's must replace (glog's aborts the program on failure).
+// clang-format off
+#include "problem.h"
+#include "refinement.h"
+#include "support/problem_cell.h"
+// clang-format on
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <set>
 #include <string>
-
-#include "problem.h"
-#include "refinement.h"
-#include "support/problem_cell.h"
 
 using namespace handeye;
 using test::ProblemCell;

@@ -162,8 +162,10 @@ TEST_CASE("the robot's error the views show: none for an exact robot, near the s
       const auto prior =
           internal::EstimateRobotPrior(noisy.problem, noisy.TrueCamMounts(), TrueTargets(noisy));
       REQUIRE(prior);
-      // Seeds 6-8, both setups: 0.22-0.93 mm, and 0-0.037 deg: on this cell a
-      // view's PnP turns the target by more than the robot's 0.03 deg, so the
+      // Seeds 6-8, both setups: 0.22-0.93 mm, and 0-0.037 deg (the robot's σ
+      // per axis: 0.3 mm, and 0.03 deg / √3 = 0.017 deg, the simulated turn
+      // being about a random axis): on this cell a view's PnP turns the
+      // target by more than the robot does, so the
       // rotation left beyond PnP's noise can be nothing (the floor, 1e-5 deg);
       // the flange's σ then still holds the rotation times the reach.
       CHECK(prior->chain_to_pnp > 1.2);
