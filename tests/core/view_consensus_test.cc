@@ -131,6 +131,44 @@ TEST_CASE("views off the solution: none at the truth, a view moved by pixels is 
   }
 }
 
+TEST_CASE(
+    "an inconsistent view that fits with the target turned over is said to be seen from behind",
+    "[view_consensus]") {
+  ProblemCell cell(SmallCell(Setup::kEyeToHand, 2, 12, 15), 0.0);
+  const auto T_cam_mount = cell.TrueCamMounts();
+  const std::vector<int>& ids = cell.problem.camera_views[0];
+  REQUIRE(ids.size() >= 3);
+  // Three views left out by the vote, their PnP poses turned half a turn
+  // about the board's x axis (over: from behind), its normal (round: a
+  // numbering), and not at all.
+  const int over = ids[0], round = ids[1], kept = ids[2];
+  auto turn = [&](int v, const Eigen::Vector3d& axis) {
+    internal::View& view = cell.problem.views[v];
+    Eigen::Isometry3d half = Eigen::Isometry3d::Identity();
+    half.linear() = MatrixFromRotationVector(M_PI * axis);
+    *view.T_cam_target = *view.T_cam_target * half;
+  };
+  turn(over, Eigen::Vector3d::UnitX());
+  turn(round, Eigen::Vector3d::UnitZ());
+  for (int v : {over, round, kept}) {
+    cell.problem.views[v].inconsistent = true;
+    cell.problem.views[v].rejected_because = "the vote";
+  }
+  internal::ExplainInconsistentViews(&cell.problem, T_cam_mount, TrueTargets(cell));
+  CHECK_FALSE(cell.problem.views[over].inconsistent);
+  CHECK_THAT(cell.problem.views[over].rejected_because,
+             Catch::StartsWith("the target is seen from behind, its pattern mirrored"));
+  for (int v : {round, kept}) {
+    CHECK(cell.problem.views[v].inconsistent);
+    CHECK(cell.problem.views[v].rejected_because == "the vote");
+  }
+  // A camera without a solution explains nothing.
+  cell.problem.views[over].inconsistent = true;
+  std::vector<std::optional<Eigen::Isometry3d>> none(2);
+  internal::ExplainInconsistentViews(&cell.problem, none, TrueTargets(cell));
+  CHECK(cell.problem.views[over].inconsistent);
+}
+
 TEST_CASE("the residuals through the truth and the PnP fits both give the detection noise",
           "[view_consensus]") {
   for (const double noise_px : {0.1, 0.3, 1.0}) {
