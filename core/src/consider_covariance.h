@@ -63,8 +63,9 @@ class ConsiderCovariance {
   /// G Σ_post Gᵀ of block a (tangent space): what the held inputs' error
   /// adds, for residuals of variance `variance_factor` per unit.
   Eigen::MatrixXd Consider(const double* a, double variance_factor) const;
-  /// G δc of block a (tangent space): where the estimate would be with the
-  /// inputs at what prior and views together say.
+  /// G δc of block a (tangent space): the held estimate less where it would
+  /// be with the inputs at what prior and views together say (−G δc is that
+  /// move; only its outer product enters σ).
   Eigen::VectorXd Shift(const double* a, double variance_factor) const;
 
  private:

@@ -34,7 +34,9 @@ struct SceneOptions {
   /// Give each camera its own lens distortion (ignored by metric-medium).
   bool distortion = true;
   /// Robot pose noise added to the reported T_base_ee (the truth is kept in
-  /// GroundTruth::PoseTruth): translation σ per axis (mm), rotation σ (deg).
+  /// GroundTruth::PoseTruth): translation σ per axis (mm); rotation a turn of
+  /// N(0, pose_noise_deg) degrees about a uniformly random axis (σ per axis
+  /// pose_noise_deg / √3).
   double pose_noise_mm = 0.0;
   double pose_noise_deg = 0.0;
   /// Exchange the robot records of this many disjoint pairs of poses after the
