@@ -117,17 +117,12 @@ int main(int argc, char** argv) {
               // and add nothing to σ, and rendering them tripled a scene's time.
               render.every_view = false;
               DetectSimulated(&scene, render, threads);
-              const auto off_slash = off.find('/');
-              const double off_pct = std::stod(off.substr(0, off_slash)),
-                           off_px = std::stod(off.substr(off_slash + 1));
-              for (size_t k = 0; k < scene.dataset.cameras.size(); ++k) {
-                const double sign = k % 2 == 0 ? 1.0 : -1.0;
-                auto& p = scene.dataset.cameras[k].params;
-                p[0] *= 1.0 + 0.01 * off_pct * sign;
-                p[1] *= 1.0 + 0.01 * off_pct * sign;
-                p[2] += off_px * sign;
-                p[3] -= off_px * sign;
+              IntrinsicsOffset offset;
+              if (!ParseIntrinsicsOffset(off, &offset)) {
+                std::fprintf(stderr, "--intrinsics-off: PCT/PX, e.g. 1/3, got '%s'\n", off.c_str());
+                return 2;
               }
+              OffsetIntrinsics(offset, &scene.dataset);
               try {
                 const CalibrationResult result = Calibrate(scene.dataset, calibration);
                 AddToCoverage(result, scene.truth, &c);

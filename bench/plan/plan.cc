@@ -39,8 +39,7 @@ struct Settings {
   bool given_robot_sigma = false;  // solve with the true robot σ instead of estimating it
   double rough_mm = 20, rough_deg = 1;  // the cell's rough poses: ± of cameras and target
   double uncertainty_margin = PlanOptions{}.uncertainty_margin;
-  // The given intrinsics off (even cameras +, odd −): focal %, principal point px.
-  double focal_off_percent = 0, principal_point_off_px = 0;
+  IntrinsicsOffset intrinsics_off;  // the given intrinsics off (OffsetIntrinsics)
   // Plan for and solve with --refine-intrinsics focal,principal_point; and
   // also solve the planned capture with the true intrinsics and with none.
   bool refine_intrinsics = false;
@@ -78,15 +77,9 @@ Outcome Solve(const SyntheticScene& scene, const Settings& settings) {
     // The given intrinsics off as a user's earlier calibration may be: the
     // observations are the true cameras', the solve gets these.
     Dataset dataset = scene.dataset;
-    for (size_t k = 0; k < dataset.cameras.size(); ++k) {
-      const double sign = k % 2 ? -1.0 : 1.0;
-      auto& params = dataset.cameras[k].params;
-      params[0] *= 1.0 + sign * settings.focal_off_percent / 100.0;
-      params[1] *= 1.0 + sign * settings.focal_off_percent / 100.0;
-      params[2] += sign * settings.principal_point_off_px;
-      params[3] += sign * settings.principal_point_off_px;
-      if (settings.no_intrinsics) dataset.cameras[k].has_intrinsics = false;
-    }
+    OffsetIntrinsics(settings.intrinsics_off, &dataset);
+    if (settings.no_intrinsics)
+      for (Camera& camera : dataset.cameras) camera.has_intrinsics = false;
     const CalibrationResult result = Calibrate(dataset, options);
     const Evaluation evaluation = EvaluateAgainstTruth(result, scene.truth);
     for (const CameraError& e : evaluation.cameras) {
@@ -113,7 +106,7 @@ Outcome Solve(const SyntheticScene& scene, const Settings& settings) {
 void SolveVariants(const SyntheticScene& sampler, const SyntheticScene& planned, const Settings& settings,
                    std::map<std::string, std::vector<double>>* variants) {
   Settings exact = settings, held = settings, none = settings;
-  exact.focal_off_percent = exact.principal_point_off_px = 0;
+  exact.intrinsics_off = {};
   exact.refine_intrinsics = false;
   held.refine_intrinsics = false;
   none.no_intrinsics = true;
@@ -200,15 +193,13 @@ int main(int argc, char** argv) {
   std::string intrinsics_off = "0/0";
   app.add_option("--intrinsics-off", intrinsics_off,
                  "PCT/PX: the given intrinsics off by PCT % in focal length and PX in the principal point "
-                 "(even cameras +, odd -); the observations are the true cameras'");
+                 "(OffsetIntrinsics: even cameras f +, cx +, cy -; odd the other way); the observations are "
+                 "the true cameras'");
   CLI11_PARSE(app, argc, argv);
-  const auto slash = intrinsics_off.find('/');
-  if (slash == std::string::npos) {
-    std::fprintf(stderr, "--intrinsics-off: PCT/PX, e.g. 1/3\n");
+  if (!ParseIntrinsicsOffset(intrinsics_off, &s.intrinsics_off)) {
+    std::fprintf(stderr, "--intrinsics-off: PCT/PX, e.g. 1/3, got '%s'\n", intrinsics_off.c_str());
     return 2;
   }
-  s.focal_off_percent = std::stod(intrinsics_off.substr(0, slash));
-  s.principal_point_off_px = std::stod(intrinsics_off.substr(slash + 1));
 
   const auto target = std::make_shared<const CheckerboardTarget>(7, 4, 0.04);
   const std::vector<std::string> cell_names = SplitList(cells), camera_counts = SplitList(cameras_list);

@@ -1,13 +1,15 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "support/bench_support.h"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
-#include <sys/resource.h>
 
 #include "handeye/detectors/registry.h"
 #include "handeye/io/image.h"
@@ -52,7 +54,8 @@ std::string Table::Markdown() const {
   std::vector<size_t> width(header_.size(), 3);
   for (size_t c = 0; c < header_.size(); ++c) width[c] = std::max(width[c], header_[c].size());
   for (const auto& row : rows_)
-    for (size_t c = 0; c < row.size() && c < width.size(); ++c) width[c] = std::max(width[c], row[c].size());
+    for (size_t c = 0; c < row.size() && c < width.size(); ++c)
+      width[c] = std::max(width[c], row[c].size());
   std::ostringstream out;
   auto line = [&](const std::vector<std::string>& cells) {
     out << "|";
@@ -115,6 +118,28 @@ std::vector<std::string> SplitList(const std::string& text) {
   while (std::getline(ss, item, ','))
     if (!item.empty()) out.push_back(item);
   return out;
+}
+
+bool ParseIntrinsicsOffset(const std::string& text, IntrinsicsOffset* offset) {
+  const auto slash = text.find('/');
+  if (slash == std::string::npos) return false;
+  char* end = nullptr;
+  const std::string pct = text.substr(0, slash), px = text.substr(slash + 1);
+  offset->focal_percent = std::strtod(pct.c_str(), &end);
+  if (pct.empty() || *end != '\0') return false;
+  offset->principal_point_px = std::strtod(px.c_str(), &end);
+  return !px.empty() && *end == '\0';
+}
+
+void OffsetIntrinsics(const IntrinsicsOffset& offset, Dataset* dataset) {
+  for (size_t k = 0; k < dataset->cameras.size(); ++k) {
+    const double sign = k % 2 == 0 ? 1.0 : -1.0;
+    auto& p = dataset->cameras[k].params;
+    p[0] *= 1.0 + 0.01 * offset.focal_percent * sign;
+    p[1] *= 1.0 + 0.01 * offset.focal_percent * sign;
+    p[2] += offset.principal_point_px * sign;
+    p[3] -= offset.principal_point_px * sign;
+  }
 }
 
 }  // namespace handeye::bench

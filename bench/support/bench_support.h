@@ -63,6 +63,20 @@ DetectionError MeasureDetectionError(const SyntheticScene& scene);
 /// Splits "a,b,c".
 std::vector<std::string> SplitList(const std::string& text);
 
+/// Given intrinsics off as an earlier calibration may leave them (the
+/// benches' --intrinsics-off PCT/PX): focal length by PCT %, principal point
+/// by PX pixels.
+struct IntrinsicsOffset {
+  double focal_percent = 0;
+  double principal_point_px = 0;
+};
+/// "PCT/PX" (e.g. "1/3"); false when it is not two numbers.
+bool ParseIntrinsicsOffset(const std::string& text, IntrinsicsOffset* offset);
+/// Moves every camera's given intrinsics by `offset`, alternately: even
+/// cameras fx, fy × (1 + PCT/100), cx + PX, cy − PX; odd cameras the other
+/// way. The observations keep the true cameras'.
+void OffsetIntrinsics(const IntrinsicsOffset& offset, Dataset* dataset);
+
 }  // namespace handeye::bench
 
 namespace handeye::bench {
