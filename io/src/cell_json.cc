@@ -2,6 +2,7 @@
 // `handeye-cell/1` (io/plan_json.h): what is known about a cell before a capture.
 #include <cmath>
 
+#include "cell_json_internal.h"
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
 #include "handeye/detectors/registry.h"
@@ -101,6 +102,17 @@ void ReadOptional(const JsonReader& r, const char* key, double* value) {
 
 }  // namespace
 
+namespace internal {
+
+nlohmann::ordered_json NoiseJson(const PlanCell& cell) {
+  return {{"pixel_sigma_px", cell.pixel_sigma_px},
+          {"robot_sigma_mm", cell.robot_sigma_mm},
+          {"robot_sigma_deg", cell.robot_sigma_deg},
+          {"intrinsics_sigma", JsonFromIntrinsicsSigma(cell.intrinsics_sigma)}};
+}
+
+}  // namespace internal
+
 PlanCell LoadPlanCell(const std::string& path) {
   const nlohmann::json json = ReadJsonFile(path);
   const JsonReader root(&json, path);
@@ -170,12 +182,7 @@ void SavePlanCell(const PlanCell& cell, const std::string& path) {
   j[frames.target_key] = JsonFromTransform(cell.T_holder_target);
   j["target_pose_uncertainty"] = {{"position_m", cell.target_position_sigma_m},
                                   {"rotation_deg", cell.target_rotation_sigma_rad / kDeg}};
-  j["noise"] = {{"pixel_sigma_px", cell.pixel_sigma_px},
-                {"robot_sigma_mm", cell.robot_sigma_mm},
-                {"robot_sigma_deg", cell.robot_sigma_deg},
-                {"intrinsics_sigma",
-                 {{"focal_percent", cell.intrinsics_sigma.focal_percent},
-                  {"principal_point_px", cell.intrinsics_sigma.principal_point_px}}}};
+  j["noise"] = internal::NoiseJson(cell);
   nlohmann::ordered_json region;
   if (cell.region.box)
     region["box_m"] = {{"min", {cell.region.box->min().x(), cell.region.box->min().y(), cell.region.box->min().z()}},

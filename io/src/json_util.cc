@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <set>
 
+#include "handeye/core/calibration.h"
 #include "handeye/core/transform.h"
 #include "text_file.h"
 
@@ -219,6 +220,10 @@ TargetSpec TargetSpecFromJson(const JsonReader& target) {
     }
   }
   return spec;
+}
+
+nlohmann::ordered_json JsonFromIntrinsicsSigma(const GivenIntrinsicsSigma& sigma) {
+  return {{"focal_percent", sigma.focal_percent}, {"principal_point_px", sigma.principal_point_px}};
 }
 
 nlohmann::ordered_json JsonFromTargetSpec(const TargetSpec& spec) {

@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "cell_json_internal.h"
 #include "handeye/core/error.h"
 #include "handeye/io/atomic_file.h"
 #include "handeye/io/json_util.h"
@@ -49,12 +50,7 @@ void SavePlan(const CapturePlan& plan, const PlanCell& cell, const PlanOptions& 
   j["setup"] = SetupName(cell.setup);
   j["options"] = {{"poses", options.poses}, {"goal_mm", options.goal_mm}, {"seed", options.seed},
                   {"candidates", options.candidates}};
-  j["noise"] = {{"pixel_sigma_px", cell.pixel_sigma_px},
-                {"robot_sigma_mm", cell.robot_sigma_mm},
-                {"robot_sigma_deg", cell.robot_sigma_deg},
-                {"intrinsics_sigma",
-                 {{"focal_percent", cell.intrinsics_sigma.focal_percent},
-                  {"principal_point_px", cell.intrinsics_sigma.principal_point_px}}}};
+  j["noise"] = internal::NoiseJson(cell);
   j["poses"] = nlohmann::ordered_json::array();
   for (const PlannedPose& pose : plan.poses)
     j["poses"].push_back({{"id", pose.id},

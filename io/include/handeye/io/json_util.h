@@ -22,6 +22,8 @@
 
 namespace handeye {
 
+struct GivenIntrinsicsSigma;  // handeye/core/calibration.h
+
 /// Parses a JSON file. Throws InputError naming `path` when the file is
 /// missing or unreadable, when the JSON is malformed (with line and column),
 /// when a number does not fit a double (e.g. `1e999`), or when an object has
@@ -118,6 +120,10 @@ TargetSpec TargetSpecFromJson(const JsonReader& target);
 /// A TargetSpec as the `target` object: `type` first, then the other keys in
 /// name order; integral numbers are written as integers (e.g. `[4, 3]`).
 nlohmann::ordered_json JsonFromTargetSpec(const TargetSpec& spec);
+
+/// `intrinsics_sigma` as results, cell and plan files write it:
+/// {"focal_percent", "principal_point_px"}.
+nlohmann::ordered_json JsonFromIntrinsicsSigma(const GivenIntrinsicsSigma& sigma);
 
 /// A 4×4 matrix as a row-major nested array (full double precision).
 nlohmann::ordered_json JsonFromMatrix(const Eigen::Matrix4d& M);
