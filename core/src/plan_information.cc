@@ -88,15 +88,14 @@ Model MakeModel(const PlanCell& cell) {
   model.size = 6;
   model.given_focal = cell.intrinsics_sigma.focal_percent > 0;
   model.given_principal_point = cell.intrinsics_sigma.principal_point_px > 0;
-  const int given_coordinates = (model.given_focal ? 1 : 0) + (model.given_principal_point ? 2 : 0);
   for (const PlanCamera& camera : cell.cameras) {
     model.camera_offset.push_back(model.size);
     model.size += 6;
     model.intrinsics_offset.push_back(camera.refine_intrinsics ? model.size : -1);
     if (camera.refine_intrinsics) model.size += kIntrinsicsUnknowns;
-    const bool given = !camera.refine_intrinsics && given_coordinates > 0;
+    const bool given = !camera.refine_intrinsics && model.GivenCoordinates() > 0;
     model.given_offset.push_back(given ? model.size : -1);
-    if (given) model.size += given_coordinates;
+    if (given) model.size += model.GivenCoordinates();
     model.T_cam_mount.push_back(ToPoseParams(camera.T_mount_cam.inverse()));
     // Where the rough pose's ± may move the image: its position over the
     // working distance and its turn, each in pixels at the focal length.
@@ -203,9 +202,8 @@ std::vector<PredictedSigma> SigmaOf(const Model& model, const Eigen::MatrixXd& i
   const Eigen::LLT<Eigen::MatrixXd> llt(information);
   if (llt.info() != Eigen::Success) return out;
   std::vector<int> c;
-  const int given_coordinates = (model.given_focal ? 1 : 0) + (model.given_principal_point ? 2 : 0);
   for (int offset : model.given_offset)
-    for (int i = 0; offset >= 0 && i < given_coordinates; ++i) c.push_back(offset + i);
+    for (int i = 0; offset >= 0 && i < model.GivenCoordinates(); ++i) c.push_back(offset + i);
   const int nc = static_cast<int>(c.size());
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(model.size, 6 * cameras + nc);
   for (size_t k = 0; k < cameras; ++k) rhs.block(model.camera_offset[k], 6 * k, 6, 6).setIdentity();

@@ -28,6 +28,8 @@ struct Model {
   std::vector<int> given_offset;
   bool given_focal = false;            ///< the focal length's error is a coordinate
   bool given_principal_point = false;  ///< cx's and cy's are
+  /// How many coordinates each given camera's error takes.
+  int GivenCoordinates() const { return (given_focal ? 1 : 0) + (given_principal_point ? 2 : 0); }
   std::vector<PoseParams> T_cam_mount;
   PoseParams T_holder_target{};
   /// Information of what is known before any view (the rough poses' ±, the
