@@ -10,25 +10,10 @@
 
 #include "handeye/core/checkerboard.h"
 #include "handeye/core/error.h"
+#include "support/input_error.h"
 
 using namespace handeye;
 using Catch::Matchers::Contains;
-
-namespace {
-
-/// The InputError's JSON path and text that `make` throws.
-template <typename Make>
-std::pair<std::string, std::string> ErrorOf(Make make) {
-  try {
-    make();
-  } catch (const InputError& e) {
-    return {e.json_path(), e.expected()};
-  }
-  FAIL("no InputError");
-  return {};
-}
-
-}  // namespace
 
 TEST_CASE("checkerboard corners: id j*cols + i at (i, j) squares, found by id", "[checkerboard]") {
   const CheckerboardTarget board(9, 6, 0.025);
@@ -113,25 +98,26 @@ TEST_CASE("checkerboard: a board that looks the same turned half round is named,
 
 TEST_CASE("checkerboard: what it refuses, with the key's path", "[checkerboard]") {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  CHECK(ErrorOf([] { CheckerboardTarget(1, 5, 0.03); }) ==
+  CHECK(test::InputErrorOf([] { CheckerboardTarget(1, 5, 0.03); }) ==
         std::pair<std::string, std::string>{"/inner_corners", "expected two integers >= 2"});
-  CHECK(ErrorOf([] { CheckerboardTarget(5, 1, 0.03); }).first == "/inner_corners");
-  CHECK(ErrorOf([] { CheckerboardTarget(5, 4, 0.0); }) ==
+  CHECK(test::InputErrorOf([] { CheckerboardTarget(5, 1, 0.03); }).first == "/inner_corners");
+  CHECK(test::InputErrorOf([] { CheckerboardTarget(5, 4, 0.0); }) ==
         std::pair<std::string, std::string>{"/square_size_m", "expected a positive number"});
-  CHECK(ErrorOf([nan] { CheckerboardTarget(5, 4, nan); }).first == "/square_size_m");
+  CHECK(test::InputErrorOf([nan] { CheckerboardTarget(5, 4, nan); }).first == "/square_size_m");
   // A board too large to hold in memory is refused before its points are made.
-  CHECK(ErrorOf([] { CheckerboardTarget(100000, 100000, 0.01); }).first == "/inner_corners");
+  CHECK(test::InputErrorOf([] { CheckerboardTarget(100000, 100000, 0.01); }).first ==
+        "/inner_corners");
 
   TargetSpec spec = CheckerboardTarget(5, 4, 0.03).Spec();
   spec.values["square_size"] = 0.03;  // a typo for square_size_m
-  CHECK(ErrorOf([&] { CheckerboardTarget{spec}; }) ==
+  CHECK(test::InputErrorOf([&] { CheckerboardTarget{spec}; }) ==
         std::pair<std::string, std::string>{
             "/square_size",
             "unknown key for a 'checkerboard' target; expected only: type, inner_corners, "
             "square_size_m"});
   spec.values.erase("square_size");
   spec.values["inner_corners"] = std::vector<double>{5.5, 4};
-  CHECK(ErrorOf([&] { CheckerboardTarget{spec}; }).first == "/inner_corners/0");
+  CHECK(test::InputErrorOf([&] { CheckerboardTarget{spec}; }).first == "/inner_corners/0");
   spec.values.erase("inner_corners");
-  CHECK_THAT(ErrorOf([&] { CheckerboardTarget{spec}; }).second, Contains("missing key"));
+  CHECK_THAT(test::InputErrorOf([&] { CheckerboardTarget{spec}; }).second, Contains("missing key"));
 }

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "handeye/core/error.h"
+#include "support/input_error.h"
 
 using namespace handeye;
 
@@ -24,18 +25,6 @@ TargetSpec Spec() {
   spec.values["dictionary"] = std::string("DICT_5X5_100");
   spec.values["count"] = 3.0;
   return spec;
-}
-
-/// The InputError a call throws: its JSON path and its text.
-template <typename Call>
-std::pair<std::string, std::string> ErrorOf(Call call) {
-  try {
-    call();
-  } catch (const InputError& e) {
-    return {e.json_path(), e.expected()};
-  }
-  FAIL("no InputError");
-  return {};
 }
 
 }  // namespace
@@ -59,26 +48,26 @@ TEST_CASE("TargetSpec's getters name the key and what they expected", "[target_s
   const double inf = std::numeric_limits<double>::infinity();
 
   // Missing keys name the type too.
-  auto missing = ErrorOf([&] { spec.GetPositive("tag_size_m"); });
+  auto missing = test::InputErrorOf([&] { spec.GetPositive("tag_size_m"); });
   CHECK(missing.first == "/tag_size_m");
   CHECK(missing.second == "missing key; expected a positive number for a 'checkerboard' target");
 
   // A number where it is not one, and numbers out of range.
-  CHECK(ErrorOf([&] { spec.GetPositive("dictionary"); }) ==
+  CHECK(test::InputErrorOf([&] { spec.GetPositive("dictionary"); }) ==
         std::pair<std::string, std::string>{"/dictionary", "expected a positive number"});
   for (double bad : {0.0, -0.04}) {
     spec.values["square_size_m"] = bad;
-    CHECK(ErrorOf([&] { spec.GetPositive("square_size_m"); }).second ==
+    CHECK(test::InputErrorOf([&] { spec.GetPositive("square_size_m"); }).second ==
           "expected a positive number");
   }
   for (double bad : {nan, inf, -inf}) {
     spec.values["square_size_m"] = bad;
-    CHECK(ErrorOf([&] { spec.GetPositive("square_size_m"); }).second ==
+    CHECK(test::InputErrorOf([&] { spec.GetPositive("square_size_m"); }).second ==
           "expected a positive number, got NaN/Inf");
   }
   for (double bad : {0.0, 1.0, 1.5, -0.2}) {
     spec.values["marker_ratio"] = bad;
-    CHECK(ErrorOf([&] { spec.GetFraction("marker_ratio"); }).second ==
+    CHECK(test::InputErrorOf([&] { spec.GetFraction("marker_ratio"); }).second ==
           "expected a number between 0 and 1");
   }
 
@@ -86,29 +75,31 @@ TEST_CASE("TargetSpec's getters name the key and what they expected", "[target_s
   for (double bad : {2.5, 0.0, 1e7}) {
     spec.values["count"] = bad;
     INFO(bad);
-    CHECK(ErrorOf([&] { spec.GetInt("count", 1); }) ==
+    CHECK(test::InputErrorOf([&] { spec.GetInt("count", 1); }) ==
           std::pair<std::string, std::string>{"/count", "expected an integer >= 1"});
   }
   spec.values["count"] = std::vector<double>{3};
-  CHECK(ErrorOf([&] { spec.GetInt("count", 1); }).second == "expected an integer >= 1");
+  CHECK(test::InputErrorOf([&] { spec.GetInt("count", 1); }).second == "expected an integer >= 1");
 
   // Pairs: exactly two, each checked, the bad element named by its index.
   spec.values["inner_corners"] = std::vector<double>{9, 6, 4};
-  CHECK(ErrorOf([&] { spec.GetIntPair("inner_corners", 2); }) ==
+  CHECK(test::InputErrorOf([&] { spec.GetIntPair("inner_corners", 2); }) ==
         std::pair<std::string, std::string>{"/inner_corners", "expected two integers >= 2"});
   spec.values["inner_corners"] = 9.0;
-  CHECK(ErrorOf([&] { spec.GetIntPair("inner_corners", 2); }).first == "/inner_corners");
+  CHECK(test::InputErrorOf([&] { spec.GetIntPair("inner_corners", 2); }).first == "/inner_corners");
   spec.values["inner_corners"] = std::vector<double>{9, 1};
-  CHECK(ErrorOf([&] { spec.GetIntPair("inner_corners", 2); }) ==
+  CHECK(test::InputErrorOf([&] { spec.GetIntPair("inner_corners", 2); }) ==
         std::pair<std::string, std::string>{"/inner_corners/1", "expected two integers >= 2"});
   spec.values["inner_corners"] = std::vector<double>{nan, 6};
-  CHECK(ErrorOf([&] { spec.GetIntPair("inner_corners", 2); }).first == "/inner_corners/0");
+  CHECK(test::InputErrorOf([&] { spec.GetIntPair("inner_corners", 2); }).first ==
+        "/inner_corners/0");
   spec.values["inner_corners"] = std::vector<double>{9, 6.5};
-  CHECK(ErrorOf([&] { spec.GetIntPair("inner_corners", 2); }).first == "/inner_corners/1");
+  CHECK(test::InputErrorOf([&] { spec.GetIntPair("inner_corners", 2); }).first ==
+        "/inner_corners/1");
 
   // A string where it is not one: no fallback.
   spec.values["dictionary"] = 5.0;
-  CHECK(ErrorOf([&] { spec.GetString("dictionary", "DICT_4X4_50"); }) ==
+  CHECK(test::InputErrorOf([&] { spec.GetString("dictionary", "DICT_4X4_50"); }) ==
         std::pair<std::string, std::string>{"/dictionary", "expected a string"});
 }
 
@@ -117,7 +108,7 @@ TEST_CASE("TargetSpec refuses keys its target does not know, naming the ones it 
   const TargetSpec spec = Spec();
   CHECK_NOTHROW(spec.RejectUnknownKeys(
       {"square_size_m", "inner_corners", "marker_ratio", "dictionary", "count", "extra"}));
-  const auto error = ErrorOf([&] {
+  const auto error = test::InputErrorOf([&] {
     spec.RejectUnknownKeys({"square_size_m", "inner_corners", "dictionary"});
   });
   // The first unknown key in the map's order.

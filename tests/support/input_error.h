@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
-/// The check every bad-input test of a loader makes.
+/// The checks every bad-input test of a loader or a target makes.
 
 #include <catch2/catch.hpp>
 #include <string>
+#include <utility>
 
 #include "handeye/core/error.h"
 
@@ -25,6 +26,19 @@ void RequireInputErrorAt(const std::string& file, const std::string& json_path, 
     return;
   }
   FAIL(file + " was accepted; expected an error at " + json_path + ": " + expected);
+}
+
+/// The JSON path and the `expected` text of the InputError that `call`
+/// throws (a failed test when it throws none), to compare whole.
+template <typename Call>
+std::pair<std::string, std::string> InputErrorOf(Call&& call) {
+  try {
+    call();
+  } catch (const InputError& e) {
+    return {e.json_path(), e.expected()};
+  }
+  FAIL("no InputError");
+  return {};
 }
 
 }  // namespace handeye::test
