@@ -15,6 +15,8 @@
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
 #include "intrinsics_internal.h"
+#include "motion_diversity.h"
+#include "pose_uncertainty.h"
 #include "problem.h"
 #include "setup_mistakes.h"
 #include "view_consensus.h"

@@ -12,10 +12,16 @@
 #include "calibrate_stages.h"
 #include "closed_form.h"
 #include "handeye/core/error.h"
+#include "initialisation.h"
 #include "intrinsics_internal.h"
+#include "pose_consensus.h"
+#include "pose_uncertainty.h"
 #include "problem.h"
 #include "refinement.h"
+#include "residuals.h"
+#include "robot_error.h"
 #include "setup_mistakes.h"
+#include "solve_rounds.h"
 
 namespace handeye::internal {
 namespace {

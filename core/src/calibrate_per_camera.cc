@@ -11,8 +11,12 @@
 #include "closed_form.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
+#include "pose_consensus.h"
+#include "pose_manifold.h"
 #include "problem.h"
 #include "refinement.h"
+#include "residuals.h"
+#include "solve_rounds.h"
 
 namespace handeye::internal {
 namespace {

@@ -14,6 +14,7 @@
 #include "handeye/core/calibration.h"
 #include "problem.h"
 #include "refinement.h"
+#include "robot_error.h"
 
 namespace handeye::internal {
 

@@ -8,13 +8,13 @@
 #include <set>
 #include <sstream>
 
-#include "closed_form.h"
 #include "diagnostics_internal.h"
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
+#include "motion_diversity.h"
+#include "pose_consensus.h"
 #include "problem.h"
-#include "view_consensus.h"
 
 namespace handeye::internal {
 namespace {
@@ -310,36 +310,6 @@ std::optional<Eigen::Isometry3d> TargetGivenCamera(const Problem& problem, int c
   }
   if (estimates.empty()) return std::nullopt;
   return ConsensusTransform(estimates);
-}
-
-std::vector<double> ViewErrors(const Problem& problem, const View& view,
-                               const Eigen::Isometry3d& T_cam_mount,
-                               const Eigen::Isometry3d& T_holder_target) {
-  const Camera& camera = problem.dataset->cameras[view.camera];
-  const Eigen::Isometry3d T_cam_target =
-      T_cam_mount * problem.T_mount_holder[view.pose] * T_holder_target;
-  std::vector<double> errors;
-  for (size_t i = 0; i < view.p_target.size(); ++i) {
-    const auto uv = camera.Project(T_cam_target * view.p_target[i]);
-    errors.push_back(uv ? (*uv - view.observation->points_px[i]).norm() : 1e6);
-  }
-  return errors;
-}
-
-double MedianViewRms(const Problem& problem,
-                     const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                     const Eigen::Isometry3d& T_holder_target) {
-  std::vector<double> rms;
-  for (const View& view : problem.views) {
-    if (!view.used || !T_cam_mount[view.camera]) continue;
-    double sum = 0;
-    const auto errors = ViewErrors(problem, view, *T_cam_mount[view.camera], T_holder_target);
-    for (double e : errors) sum += e * e;
-    rms.push_back(std::sqrt(sum / errors.size()));
-  }
-  if (rms.empty()) return std::numeric_limits<double>::infinity();
-  std::nth_element(rms.begin(), rms.begin() + rms.size() / 2, rms.end());
-  return rms[rms.size() / 2];
 }
 
 }  // namespace handeye::internal

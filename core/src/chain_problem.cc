@@ -11,7 +11,8 @@
 #include "cost_functions.h"
 #include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
-#include "problem.h"
+#include "pose_manifold.h"
+#include "robot_error.h"
 
 namespace handeye::internal {
 namespace {

@@ -14,7 +14,7 @@
 
 #include "handeye/core/camera.h"
 #include "handeye/core/dataset.h"
-#include "problem.h"
+#include "robot_error.h"
 
 namespace handeye::internal {
 

@@ -18,8 +18,10 @@
 
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
+#include "motion_diversity.h"
+#include "pose_consensus.h"
 #include "problem.h"
-#include "view_consensus.h"
+#include "residuals.h"
 
 namespace handeye::internal {
 namespace {

@@ -3,20 +3,59 @@
 
 #include "covariance.h"
 
+#include <ceres/cost_function.h>
+
+#include <algorithm>
+#include <vector>
+
 namespace handeye::internal {
 namespace {
+
+/// The tangent coordinates of the problem's free parameter blocks.
+int FreeTangentSize(const ceres::Problem& problem) {
+  std::vector<double*> blocks;
+  problem.GetParameterBlocks(&blocks);
+  int free = 0;
+  for (const double* block : blocks)
+    if (!problem.IsParameterBlockConstant(block)) free += problem.ParameterBlockTangentSize(block);
+  return free;
+}
 
 /// Fewer residuals than free tangent coordinates: JᵀJ is singular, which
 /// DENSE_SVD does not see (Ceres' thin SVD of J has one singular value per
 /// residual then, none of them 0, and it returns the pseudo-inverse).
 bool FewerResidualsThanUnknowns(const ceres::Problem& problem) {
-  std::vector<double*> blocks;
-  problem.GetParameterBlocks(&blocks);
-  int unknowns = 0;
-  for (const double* block : blocks)
-    if (!problem.IsParameterBlockConstant(block))
-      unknowns += problem.ParameterBlockTangentSize(block);
-  return problem.NumResiduals() < unknowns;
+  return problem.NumResiduals() < FreeTangentSize(problem);
+}
+
+double ViewDesignFactor(const ceres::Problem& problem,
+                        const std::vector<ceres::ResidualBlockId>& views) {
+  // Per axis: s² over all points, and n·m² per view (m the view's mean
+  // residual), which is s² on average when the points are independent and
+  // grows with an error the view's points share.
+  double sum_sq = 0, sum_view = 0;
+  int points = 0, used = 0;
+  std::vector<double> r;
+  for (ceres::ResidualBlockId id : views) {
+    r.resize(problem.GetCostFunctionForResidualBlock(id)->num_residuals());
+    double cost;
+    if (!problem.EvaluateResidualBlock(id, false, &cost, r.data(), nullptr)) continue;
+    const int n = static_cast<int>(r.size()) / 2;
+    if (n < 2) continue;
+    double mx = 0, my = 0;
+    for (int i = 0; i < n; ++i) {
+      mx += r[2 * i];
+      my += r[2 * i + 1];
+      sum_sq += r[2 * i] * r[2 * i] + r[2 * i + 1] * r[2 * i + 1];
+    }
+    mx /= n;
+    my /= n;
+    sum_view += n * (mx * mx + my * my);
+    points += n;
+    ++used;
+  }
+  if (used < 2 || sum_sq <= 0) return 1.0;
+  return std::max(1.0, (sum_view / used) / (sum_sq / points));
 }
 
 }  // namespace
@@ -34,17 +73,24 @@ BlockCovariance::BlockCovariance(ceres::Problem* problem, const Pairs& pairs,
 BlockCovariance::~BlockCovariance() = default;
 
 Eigen::MatrixXd BlockCovariance::Tangent(const double* a, const double* b) const {
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> C(problem_->ParameterBlockTangentSize(a),
-                                                                           problem_->ParameterBlockTangentSize(b));
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> C(
+      problem_->ParameterBlockTangentSize(a), problem_->ParameterBlockTangentSize(b));
   covariance_->GetCovarianceBlockInTangentSpace(a, b, C.data());
   return C;
 }
 
 Eigen::MatrixXd BlockCovariance::Ambient(const double* a, const double* b) const {
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> C(problem_->ParameterBlockSize(a),
-                                                                           problem_->ParameterBlockSize(b));
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> C(
+      problem_->ParameterBlockSize(a), problem_->ParameterBlockSize(b));
   covariance_->GetCovarianceBlock(a, b, C.data());
   return C;
+}
+
+double VarianceFactor(ceres::Problem* problem, const std::vector<ceres::ResidualBlockId>& views) {
+  double cost = 0;
+  problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
+  const int redundancy = problem->NumResiduals() - FreeTangentSize(*problem);
+  return (redundancy > 0 ? 2.0 * cost / redundancy : 1.0) * ViewDesignFactor(*problem, views);
 }
 
 }  // namespace handeye::internal

@@ -4,7 +4,7 @@
 // blocks (ceres::Covariance): the joint solve's sigma, the intrinsics check,
 // the drift check and the noise-only bound all read theirs from here
 // (tests/CMakeLists.txt checks with nm that no other object uses
-// ceres::Covariance).
+// ceres::Covariance), and the factor that scales them to the residuals seen.
 
 #include <ceres/covariance.h>
 #include <ceres/problem.h>
@@ -25,8 +25,8 @@ class BlockCovariance {
   /// Computes the blocks `pairs` of `problem` (which must outlive this) with
   /// `algorithm`: DENSE_SVD for small problems, SPARSE_QR for those with a
   /// block per robot pose.
-  BlockCovariance(ceres::Problem* problem, const Pairs& pairs, ceres::CovarianceAlgorithmType algorithm,
-                  int threads = 1);
+  BlockCovariance(ceres::Problem* problem, const Pairs& pairs,
+                  ceres::CovarianceAlgorithmType algorithm, int threads = 1);
   ~BlockCovariance();
   /// False when the Jacobian is rank deficient: no block is available then.
   bool ok() const { return ok_; }
@@ -40,5 +40,14 @@ class BlockCovariance {
   std::unique_ptr<ceres::Covariance> covariance_;
   bool ok_ = false;
 };
+
+/// The factor that turns a covariance from Ceres (unit residuals) into one
+/// of the residuals actually seen: the a posteriori variance factor (2·cost
+/// over residuals minus free parameters) times the view design factor, how
+/// much an error shared by the points of a view (a robot pose error not
+/// modelled, a view's blur) inflates the variance: 1 for independent points,
+/// up to the points per view when all move together (from the view blocks'
+/// residuals).
+double VarianceFactor(ceres::Problem* problem, const std::vector<ceres::ResidualBlockId>& views);
 
 }  // namespace handeye::internal

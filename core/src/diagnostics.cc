@@ -14,10 +14,11 @@
 
 #include "closed_form.h"
 #include "diagnostics_internal.h"
+#include "half_turn.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
 #include "problem.h"
-#include "view_consensus.h"
+#include "residuals.h"
 
 namespace handeye::internal {
 

@@ -17,7 +17,9 @@
 #include "diagnostics_internal.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
+#include "pose_uncertainty.h"
 #include "problem.h"
+#include "residuals.h"
 
 namespace handeye {
 

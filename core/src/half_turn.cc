@@ -9,7 +9,6 @@
 #include "handeye/core/checkerboard.h"
 #include "handeye/core/transform.h"
 #include "problem.h"
-#include "view_consensus.h"
 
 namespace handeye::internal {
 namespace {

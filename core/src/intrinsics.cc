@@ -21,7 +21,9 @@
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
 #include "intrinsics_internal.h"
+#include "pose_manifold.h"
 #include "problem.h"
+#include "robot_error.h"
 
 namespace handeye::internal {
 namespace {
@@ -109,40 +111,6 @@ class IntrinsicsPriorCost : public ceres::CostFunction {
   std::vector<double> weight_;
 };
 
-}  // namespace
-
-namespace {
-
-double ViewDesignFactor(const ceres::Problem& problem,
-                        const std::vector<ceres::ResidualBlockId>& views) {
-  // Per axis: s² over all points, and n·m² per view (m the view's mean
-  // residual), which is s² on average when the points are independent and
-  // grows with an error the view's points share.
-  double sum_sq = 0, sum_view = 0;
-  int points = 0, used = 0;
-  std::vector<double> r;
-  for (ceres::ResidualBlockId id : views) {
-    r.resize(problem.GetCostFunctionForResidualBlock(id)->num_residuals());
-    double cost;
-    if (!problem.EvaluateResidualBlock(id, false, &cost, r.data(), nullptr)) continue;
-    const int n = static_cast<int>(r.size()) / 2;
-    if (n < 2) continue;
-    double mx = 0, my = 0;
-    for (int i = 0; i < n; ++i) {
-      mx += r[2 * i];
-      my += r[2 * i + 1];
-      sum_sq += r[2 * i] * r[2 * i] + r[2 * i + 1] * r[2 * i + 1];
-    }
-    mx /= n;
-    my /= n;
-    sum_view += n * (mx * mx + my * my);
-    points += n;
-    ++used;
-  }
-  if (used < 2 || sum_sq <= 0) return 1.0;
-  return std::max(1.0, (sum_view / used) / (sum_sq / points));
-}
-
 /// How far (mm) the camera centre of the T_cam_mount block `T` moves for the
 /// tangent step `step` of its pose manifold.
 double MovedMm(const double* T, const Eigen::Matrix<double, 6, 1>& step) {
@@ -154,19 +122,6 @@ double MovedMm(const double* T, const Eigen::Matrix<double, 6, 1>& step) {
 }
 
 }  // namespace
-
-double VarianceFactor(ceres::Problem* problem, const std::vector<ceres::ResidualBlockId>& views) {
-  double cost = 0;
-  problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
-  std::vector<double*> blocks;
-  problem->GetParameterBlocks(&blocks);
-  int free = 0;
-  for (double* block : blocks)
-    if (!problem->IsParameterBlockConstant(block))
-      free += problem->ParameterBlockTangentSize(block);
-  const int redundancy = problem->NumResiduals() - free;
-  return (redundancy > 0 ? 2.0 * cost / redundancy : 1.0) * ViewDesignFactor(*problem, views);
-}
 
 Intrinsics IntrinsicsPriorSigma(const Camera& camera) {
   const Intrinsics effect = CornerEffect(camera);

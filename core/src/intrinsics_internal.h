@@ -9,6 +9,11 @@
 #include <vector>
 
 #include "problem.h"
+#include "robot_error.h"
+
+namespace ceres {
+class CostFunction;
+}  // namespace ceres
 
 namespace handeye::internal {
 

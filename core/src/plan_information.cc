@@ -12,7 +12,8 @@
 #include "handeye/core/setup_frames.h"
 #include "intrinsics_internal.h"
 #include "plan_internal.h"
-#include "problem.h"
+#include "pose_manifold.h"
+#include "pose_uncertainty.h"
 
 namespace handeye::plan_internal {
 namespace {

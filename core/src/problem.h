@@ -1,33 +1,18 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
-// The calibration problem as the solver sees it: the views (PnP each), the
-// measures on them, and the robot's error model; what every stage of the
-// engine reads.
-
-#include <ceres/manifold.h>
-#include <ceres/product_manifold.h>
+// The calibration problem as the solver sees it: the robot poses and the
+// views (PnP each), the data every stage of the engine reads. What is
+// computed from them lives beside it by topic: residuals.h (reprojection
+// errors and noise), pose_consensus.h (one side of the chain from the
+// other), robot_error.h (the robot's own error), pose_uncertainty.h.
 
 #include <optional>
-#include <utility>
+#include <string>
 #include <vector>
 
 #include "handeye/core/calibration.h"
 
-namespace ceres {
-class CostFunction;
-class Problem;
-namespace internal {
-class ResidualBlock;
-}
-using ResidualBlockId = internal::ResidualBlock*;
-}  // namespace ceres
-
 namespace handeye::internal {
-
-/// Ceres' manifold of a pose block `[qx qy qz qw tx ty tz]`: the quaternion's
-/// 3-dimensional tangent, then the translation.
-using PoseManifold =
-    ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>;
 
 /// One observation prepared for the solver.
 struct View {
@@ -59,6 +44,9 @@ struct Problem {
   std::vector<std::vector<int>> camera_views;     ///< used view indices per camera
 };
 
+/// Per camera: the T_holder_target its views use (joint: the shared one for every camera).
+using TargetPoses = std::vector<Eigen::Isometry3d>;
+
 /// Builds views, runs PnP per view and drops views whose points fit no plane pose.
 Problem BuildProblem(const Dataset& dataset, const CalibrationOptions& options);
 
@@ -80,68 +68,7 @@ double ViewAngle(const Eigen::Isometry3d& T_cam_target,
 /// Rebuilds problem->camera_views from the views' `used` flags.
 void IndexUsedViews(Problem* problem);
 
-/// Per camera: the T_holder_target its views use (joint: the shared one for every camera).
-using TargetPoses = std::vector<Eigen::Isometry3d>;
-
-/// σ (pixels, per image axis) of the reprojection residuals of the used
-/// views, from their median (robust to a few bad points).
-double ResidualSigmaPx(const Problem& problem,
-                       const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                       const TargetPoses& T_holder_target);
-
-/// Chordal L2 mean of rotations and mean of translations.
-Eigen::Isometry3d MeanTransform(const std::vector<Eigen::Isometry3d>& transforms);
-
-/// Median over used views of the per-view RMS reprojection error for (T_cam_mount,
-/// T_holder_target).
-double MedianViewRms(const Problem& problem,
-                     const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                     const Eigen::Isometry3d& T_holder_target);
-
-/// Reprojection errors (pixels) of one view's points through
-/// T_cam_mount · T_mount_holder[j] · T_holder_target.
-std::vector<double> ViewErrors(const Problem& problem, const View& view,
-                               const Eigen::Isometry3d& T_cam_mount,
-                               const Eigen::Isometry3d& T_holder_target);
-
-/// The uncertainty of pose P = T (or T⁻¹ with `invert`) from the
-/// tangent-space covariance of the pose block T (PoseManifold).
-PoseUncertainty UncertaintyOf(const Eigen::Isometry3d& T,
-                              const Eigen::Matrix<double, 6, 6>& tangent_covariance, bool invert);
-
-/// Detection noise σ per image axis (pixels): the median over used views of
-/// what their PnP fit leaves (2n − 6 degrees of freedom for n points).
-double DetectionSigmaPx(const Problem& problem);
-
-/// The factor that turns a covariance from Ceres (unit residuals) into one
-/// of the residuals actually seen: the a posteriori variance factor (2·cost
-/// over residuals minus free parameters) times the view design factor, how
-/// much an error shared by the points of a view (a robot pose error not
-/// modelled, a view's blur) inflates the variance: 1 for independent points,
-/// up to the points per view when all move together (from the view blocks'
-/// residuals).
-double VarianceFactor(ceres::Problem* problem, const std::vector<ceres::ResidualBlockId>& views);
-
 /// Re-runs PnP of every used view with the problem's (refined) intrinsics.
 void RecomputePnp(Problem* problem, double max_rms_px);
-
-/// RMS of a view's point errors (pixels), and the largest in *max_error (may be null).
-double ViewRms(const std::vector<double>& errors, double* max_error = nullptr);
-
-/// The robot's own pose error, when the joint solve models it: one pose block
-/// per robot pose, tied to the reported pose by a prior of these σ.
-struct RobotPrior {
-  double sigma_m = 0;         ///< flange translation σ per axis, metres
-  double sigma_rad = 0;       ///< rotation σ per axis (about the flange, base frame)
-  double pixel_sigma_px = 0;  ///< detection noise σ per image axis, the pixel residuals' weight
-  double chain_to_pnp =
-      0;  ///< median view RMS through the exact-robot chain over PnP's (estimated priors)
-  /// The robot's error as the solved pose blocks show it (SettleRobotSigma),
-  /// which the covariance of the solution assumes; 0: sigma_m and sigma_rad.
-  /// The solve keeps its weights: on METRIC as published, solving under the
-  /// settled σ moved the cameras 0.16 mm further from the ground truth.
-  double settled_sigma_m = 0;
-  double settled_sigma_rad = 0;
-};
 
 }  // namespace handeye::internal

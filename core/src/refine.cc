@@ -17,12 +17,13 @@
 #include <tuple>
 
 #include "chain_problem.h"
-#include "closed_form.h"
 #include "consider_covariance.h"
 #include "cost_functions.h"
+#include "covariance.h"
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
+#include "initialisation.h"
 #include "intrinsics_internal.h"
 #include "problem.h"
 #include "refine_internal.h"

@@ -9,9 +9,9 @@
 #include <cmath>
 
 #include "covariance.h"
-#include "problem.h"
 #include "refine_internal.h"
 #include "refinement.h"
+#include "robot_error.h"
 
 namespace handeye::internal {
 

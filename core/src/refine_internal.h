@@ -15,6 +15,7 @@
 #include "cost_functions.h"
 #include "problem.h"
 #include "refinement.h"
+#include "robot_error.h"
 
 namespace handeye::internal {
 

@@ -11,12 +11,13 @@
 #include <memory>
 
 #include "chain_problem.h"
-#include "closed_form.h"
 #include "cost_functions.h"
+#include "initialisation.h"
 #include "intrinsics_internal.h"
 #include "problem.h"
 #include "refine_internal.h"
 #include "refinement.h"
+#include "robot_error.h"
 
 namespace handeye::internal {
 namespace {

@@ -1,16 +1,15 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
-// The nonlinear refinement (refine*.cc), its robust rounds, the robot's
-// error estimated and settled, and the leave-one-pose-out check.
+// The nonlinear refinement (refine*.cc): the joint solve and the per-camera one.
 
-#include <functional>
 #include <map>
 #include <optional>
 #include <utility>
 #include <vector>
 
-#include "closed_form.h"
+#include "initialisation.h"
 #include "problem.h"
+#include "robot_error.h"
 
 namespace handeye::internal {
 
@@ -49,26 +48,6 @@ void WarmStart(const Refinement& solved, Initialisation* init);
 /// compute the covariance of the given values (the solution).
 enum class JointStep { kSolve, kCovariance };
 
-/// Expectation maximisation of the robot's σ over the solution's pose blocks
-/// (`solution`, solved from `init` under `robot`): each step takes every
-/// record's correction plus its posterior variance (the views' information
-/// about the flange and the prior's) and solves a copy again, until σ moves
-/// < 5 % (≤ 4 steps). Sets robot->settled_sigma_m and settled_sigma_rad. The
-/// estimate rule (EstimateRobotPrior) errs wide on purpose; this is what the
-/// pose blocks say.
-void SettleRobotSigma(const Problem& problem, const Initialisation& init,
-                      const Refinement& solution, const CalibrationOptions& options,
-                      RobotPrior* robot);
-
-/// The robot's pose error as the views show it through the chain: nullopt when
-/// the residuals through the chain are not clearly above PnP's (over 1.2×;
-/// the robot is then as exact as the images can tell); else σ of the flange's
-/// displacement across the viewing rays and of its rotation, from the medians
-/// of where PnP and the chain put the target, less PnP's own noise there.
-std::optional<RobotPrior> EstimateRobotPrior(
-    const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-    const TargetPoses& T_holder_target);
-
 /// The paper's joint solve: shared T_holder_target, optional c_cross terms; with `robot`,
 /// every robot pose is a block of the solve too, under its prior.
 Refinement RefineJoint(const Problem& problem, const Initialisation& init,
@@ -82,24 +61,5 @@ Refinement RefinePerCamera(const Problem& problem,
                            const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
                            const std::vector<Eigen::Isometry3d>& T_holder_target,
                            const CalibrationOptions& options, JointStep step = JointStep::kSolve);
-
-/// Per camera, the T_holder_target its views use (one shared, or one per camera).
-TargetPoses TargetPosesOf(const Refinement& refined, size_t num_cameras);
-
-/// The nonlinear solve made robust: `solve(scale)` runs one refinement
-/// (warm-started by the caller from the last one). After each solve, views far
-/// outside the robust residual distribution are excluded and the loss scale is
-/// set from the residuals (when not fixed), then it solves again, until
-/// nothing changes (at most a few rounds). Warnings go to *warnings.
-Refinement RobustSolve(Problem* problem, const CalibrationOptions& options, double first_scale,
-                       const std::function<Refinement(double scale_px)>& solve,
-                       std::vector<Warning>* warnings);
-
-/// Leave-one-pose-out: for each robot pose with used views, the joint solve
-/// without them (from `init`, the solution), its prediction of their points,
-/// and how far each camera moved from the full solve. One entry per camera.
-void CrossValidate(const Problem& problem, const Initialisation& init,
-                   const CalibrationOptions& options, const std::optional<RobotPrior>& robot,
-                   std::vector<CameraResult::CrossValidation>* out);
 
 }  // namespace handeye::internal

@@ -4,9 +4,9 @@
 #include <array>
 #include <cmath>
 
-#include "closed_form.h"
 #include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
+#include "initialisation.h"
 #include "problem.h"
 #include "refinement.h"
 

@@ -16,6 +16,8 @@
 #include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
 #include "problem.h"
+#include "residuals.h"
+#include "robot_error.h"
 
 namespace handeye::internal {
 namespace {
@@ -152,12 +154,6 @@ Score ScoreOf(Problem scoring, const Hypothesis& h) {
   std::nth_element(rms.begin(), rms.begin() + rms.size() / 2, rms.end());
   score.median_rms_px = rms[rms.size() / 2];
   return score;
-}
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
 }
 
 /// The factor by which the target's motions, as the cameras see them, exceed

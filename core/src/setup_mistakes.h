@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "problem.h"
+#include "robot_error.h"
 
 namespace handeye::internal {
 

@@ -6,11 +6,11 @@
 #include <cmath>
 #include <sstream>
 
-#include "closed_form.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
 #include "problem.h"
 #include "refinement.h"
+#include "residuals.h"
 #include "view_consensus.h"
 
 namespace handeye::internal {
@@ -19,16 +19,6 @@ namespace {
 constexpr double kRadToDeg = 180.0 / M_PI;
 
 }  // namespace
-
-double ViewRms(const std::vector<double>& errors, double* max_error) {
-  double sum = 0, largest = 0;
-  for (double e : errors) {
-    sum += e * e;
-    largest = std::max(largest, e);
-  }
-  if (max_error) *max_error = largest;
-  return errors.empty() ? 0.0 : std::sqrt(sum / errors.size());
-}
 
 TargetPoses TargetPosesOf(const Refinement& refined, size_t num_cameras) {
   if (refined.T_holder_target.size() == num_cameras) return refined.T_holder_target;

@@ -13,7 +13,8 @@
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
-#include "problem.h"
+#include "pose_manifold.h"
+#include "pose_uncertainty.h"
 
 namespace handeye {
 namespace internal {

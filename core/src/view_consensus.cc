@@ -10,21 +10,16 @@
 #include <sstream>
 
 #include "cost_jacobians.h"
+#include "half_turn.h"
 #include "handeye/core/transform.h"
 #include "problem.h"
-#include "refinement.h"
+#include "residuals.h"
+#include "robot_error.h"
 
 namespace handeye::internal {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + values.size() / 2;
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
 
 /// What PnP's own noise contributes, per axis, to a view's target rotation
 /// and to the target centre's offset across the viewing ray (variances,
@@ -105,20 +100,6 @@ MotionMismatch Compare(const Problem& problem, const View& a,
   if (seen.angle_rad > kMinAngleForPitch && moved.angle_rad > kMinAngleForPitch)
     m.pitch_m = std::abs(seen.pitch_m - moved.pitch_m);
   return m;
-}
-
-/// Residual norms (pixels) of every point of a used view through the chain.
-std::vector<double> PointErrors(const Problem& problem,
-                                const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                                const TargetPoses& T_holder_target) {
-  std::vector<double> errors;
-  for (const View& view : problem.views) {
-    if (!view.used || !T_cam_mount[view.camera]) continue;
-    const auto e =
-        ViewErrors(problem, view, *T_cam_mount[view.camera], T_holder_target[view.camera]);
-    errors.insert(errors.end(), e.begin(), e.end());
-  }
-  return errors;
 }
 
 /// The target's centre (its points' mean), which locates it better than its origin.
@@ -288,14 +269,6 @@ std::vector<int> ViewsOffTheSolution(
   return off;
 }
 
-double ResidualSigmaPx(const Problem& problem,
-                       const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
-                       const TargetPoses& T_holder_target) {
-  // The norm of a 2D Gaussian residual of σ per axis has median σ·√(2 ln 2).
-  return Median(PointErrors(problem, T_cam_mount, T_holder_target)) /
-         std::sqrt(2.0 * std::log(2.0));
-}
-
 void ExplainInconsistentViews(Problem* problem,
                               const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
                               const TargetPoses& T_holder_target) {
@@ -316,15 +289,6 @@ void ExplainInconsistentViews(Problem* problem,
         "the target is seen from behind, its pattern mirrored (a see-through target?): the view "
         "fits the calibration only with the target turned over";
   }
-}
-
-double DetectionSigmaPx(const Problem& problem) {
-  std::vector<double> sigmas;
-  for (const View& view : problem.views) {
-    const double n = static_cast<double>(view.p_target.size());
-    if (view.used && n > 3) sigmas.push_back(view.pnp_rms_px * std::sqrt(n / (2.0 * n - 6.0)));
-  }
-  return std::max(Median(sigmas), 1e-3);
 }
 
 std::optional<RobotPrior> EstimateRobotPrior(

@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
-// Which views to trust: the robot-motion vote, the half-turn numbering of
-// ambiguous boards, the views off a solution and the robot records that
-// disagree (view_consensus.cc, half_turn.cc, diagnostics).
+// Which views to trust: the robot-motion vote, the views off a solution and
+// the robot records that disagree (view_consensus.cc).
 
 #include <string>
 #include <vector>
@@ -26,27 +25,6 @@ namespace handeye::internal {
 /// Returns the number of views excluded.
 int RejectInconsistentMotions(Problem* problem);
 
-/// The half turn F of a 180°-ambiguous target (a checkerboard with
-/// cols + rows even) about its normal through its centre, which takes point
-/// id to point N − 1 − id; nullopt for a target that has none.
-std::optional<Eigen::Isometry3d> HalfTurnSymmetry(const Target& target);
-
-/// Numbers `view` the other way round by the half turn F (HalfTurnSymmetry):
-/// every p_target becomes F · p_target (its id's partner, N − 1 − id) and
-/// T_cam_target becomes T_cam_target · F, so the pixels and the pose stay as
-/// seen; `flipped` toggles.
-void FlipView(const Eigen::Isometry3d& F, View* view);
-
-/// Numbers every used view of a 180°-ambiguous target alike, by the half
-/// turn F (HalfTurnSymmetry): within a camera, each pair of views is numbered
-/// alike when their target motion's rotation angle matches the robot's, and
-/// the other way round when it matches only with one of them turned (FlipView);
-/// the numbering that most pairs agree with is taken. Between cameras, the
-/// one under which the views of the poses two cameras share give one
-/// camera-to-camera transform. Of the two numberings of the whole set, the
-/// one that turns fewer views. Returns the number of views flipped.
-int NumberViewsAlike(Problem* problem, const Eigen::Isometry3d& F);
-
 /// Used views whose RMS through the solution lies far outside the robust
 /// distribution of view RMS (per camera where it has five views or more):
 /// above max(median + 8·1.4826·MAD, 4·median, 0.5 px).
@@ -66,12 +44,5 @@ void ExplainInconsistentViews(Problem* problem,
 std::vector<Warning> PoseRecordWarnings(
     const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
     const TargetPoses& T_holder_target);
-
-/// Throws SolveError when the used views' robot motions cannot determine T_holder_target
-/// (fewer than two motions with non-parallel rotation axes, or tiny rotations).
-/// `cameras` limits the check to those cameras (empty: all).
-void CheckMotionDiversity(const Problem& problem, const std::vector<int>& cameras = {});
-/// The same check for one camera, as a value: empty when fine, else why.
-std::string MotionDiversityProblem(const Problem& problem, const std::vector<int>& cameras);
 
 }  // namespace handeye::internal

@@ -10,7 +10,7 @@
 #include <stdexcept>
 
 #include "handeye/core/transform.h"
-#include "problem.h"
+#include "robot_error.h"
 
 using namespace handeye;
 using internal::ChainProblem;

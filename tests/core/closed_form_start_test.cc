@@ -17,6 +17,9 @@
 #include <string>
 
 #include "handeye/core/transform.h"
+#include "initialisation.h"
+#include "pose_consensus.h"
+#include "residuals.h"
 
 using namespace handeye;
 using test::AngleDeg;

@@ -12,6 +12,8 @@
 #include <string>
 
 #include "handeye/core/transform.h"
+#include "pose_consensus.h"
+#include "problem.h"
 #include "support/projected_scene.h"
 
 using namespace handeye;

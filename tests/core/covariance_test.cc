@@ -17,7 +17,7 @@
 
 #include "handeye/core/error.h"
 #include "handeye/core/uncertainty.h"
-#include "problem.h"
+#include "pose_manifold.h"
 #include "support/linear_problem.h"
 #include "support/projected_scene.h"
 

@@ -5,8 +5,9 @@
 // clang-format off
 // Before Catch, so that CHECK is Catch's, not glog's (which Ceres' headers define).
 #include "problem.h"
-#include "view_consensus.h"
 // clang-format on
+#include "half_turn.h"
+
 #include <catch2/catch.hpp>
 #include <map>
 #include <set>

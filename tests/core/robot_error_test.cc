@@ -6,9 +6,10 @@
 // which Catch's must replace (glog's aborts the program on failure).
 // clang-format off
 #include "closed_form.h"
-#include "problem.h"
 #include "refinement.h"
 #include "support/problem_cell.h"
+#include "initialisation.h"
+#include "robot_error.h"
 // clang-format on
 
 #include <catch2/catch.hpp>

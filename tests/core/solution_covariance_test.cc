@@ -15,9 +15,11 @@
 #include <random>
 
 #include "consider_covariance.h"
-#include "problem.h"
+#include "covariance.h"
+#include "pose_manifold.h"
 #include "refine_internal.h"
 #include "refinement.h"
+#include "robot_error.h"
 #include "support/linear_problem.h"
 
 using handeye::OpenCVCameraModel;

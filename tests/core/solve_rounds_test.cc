@@ -8,6 +8,9 @@
 #include "problem.h"
 #include "refinement.h"
 #include "support/problem_cell.h"
+#include "initialisation.h"
+#include "residuals.h"
+#include "solve_rounds.h"
 // clang-format on
 
 #include <catch2/catch.hpp>

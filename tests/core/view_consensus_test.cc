@@ -10,8 +10,10 @@
 #include <string>
 
 #include "handeye/core/error.h"
+#include "motion_diversity.h"
 #include "problem.h"
-#include "refinement.h"
+#include "residuals.h"
+#include "robot_error.h"
 #include "support/problem_cell.h"
 
 using namespace handeye;

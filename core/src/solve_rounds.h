@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+// The rounds around the nonlinear solve and the leave-one-pose-out check
+// (solve_rounds.cc).
+
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "initialisation.h"
+#include "problem.h"
+#include "refinement.h"
+#include "robot_error.h"
+
+namespace handeye::internal {
+
+/// Per camera, the T_holder_target its views use (one shared, or one per camera).
+TargetPoses TargetPosesOf(const Refinement& refined, size_t num_cameras);
+
+/// The nonlinear solve made robust: `solve(scale)` runs one refinement
+/// (warm-started by the caller from the last one). After each solve, views far
+/// outside the robust residual distribution are excluded and the loss scale is
+/// set from the residuals (when not fixed), then it solves again, until
+/// nothing changes (at most a few rounds). Warnings go to *warnings.
+Refinement RobustSolve(Problem* problem, const CalibrationOptions& options, double first_scale,
+                       const std::function<Refinement(double scale_px)>& solve,
+                       std::vector<Warning>* warnings);
+
+/// Leave-one-pose-out: for each robot pose with used views, the joint solve
+/// without them (from `init`, the solution), its prediction of their points,
+/// and how far each camera moved from the full solve. One entry per camera.
+void CrossValidate(const Problem& problem, const Initialisation& init,
+                   const CalibrationOptions& options, const std::optional<RobotPrior>& robot,
+                   std::vector<CameraResult::CrossValidation>* out);
+
+}  // namespace handeye::internal
