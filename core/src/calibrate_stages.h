@@ -68,6 +68,10 @@ struct Calibration {
   Estimate est;
   std::vector<std::vector<int>> free_intrinsics;  ///< the joint solve's, by camera
   std::optional<RobotPrior> robot_model;          ///< the joint solve's, when it modelled the robot
+  /// The joint solve's robot model as chosen by held-out poses, and whether
+  /// that choice holds the robot poses exact (RobotForRound reads it).
+  std::optional<ModelChoice> model_choice;
+  bool exact_robot = false;
   std::map<size_t, IntrinsicsResult> refined_intrinsics;
   CameraCovariance camera_covariance;
   std::vector<CameraResult::CrossValidation> camera_validation;

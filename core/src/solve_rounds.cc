@@ -11,6 +11,7 @@
 #include "problem.h"
 #include "refinement.h"
 #include "residuals.h"
+#include "solve_rounds.h"
 #include "view_consensus.h"
 
 namespace handeye::internal {
@@ -136,6 +137,51 @@ void CrossValidate(const Problem& problem, const Initialisation& init,
       c.rotation_spread_deg = kRadToDeg * std::sqrt(turned_sq[k] / solves[k]);
     }
   }
+}
+
+std::vector<FoldError> HeldOutErrors(const Problem& problem, const Initialisation& init,
+                                     const CalibrationOptions& options,
+                                     const std::optional<RobotPrior>& robot, int folds) {
+  std::vector<std::vector<int>> views_at_pose(problem.T_mount_holder.size());
+  for (size_t v = 0; v < problem.views.size(); ++v)
+    if (problem.views[v].used) views_at_pose[problem.views[v].pose].push_back(static_cast<int>(v));
+  std::vector<int> poses;
+  for (size_t j = 0; j < views_at_pose.size(); ++j)
+    if (!views_at_pose[j].empty()) poses.push_back(static_cast<int>(j));
+  std::vector<FoldError> out(folds);
+  for (int f = 0; f < folds; ++f) {
+    std::vector<int> left_out;
+    for (size_t i = f; i < poses.size(); i += folds)
+      left_out.insert(left_out.end(), views_at_pose[poses[i]].begin(),
+                      views_at_pose[poses[i]].end());
+    Problem fold = problem;
+    for (int v : left_out) fold.views[v].used = false;
+    IndexUsedViews(&fold);
+    Refinement r;
+    try {
+      r = RefineJoint(fold, init, options, robot);
+    } catch (const SolveError&) {
+      continue;  // a fold that cannot be solved predicts nothing
+    }
+    // The left-out views seen through the fold's own intrinsics (ViewErrors
+    // reads the cameras alone; the views keep pointing at their observations).
+    Dataset refined;
+    refined.cameras = problem.dataset->cameras;
+    for (size_t k = 0; k < refined.cameras.size() && k < r.intrinsics.size(); ++k)
+      refined.cameras[k].params = r.intrinsics[k];
+    Problem scored = problem;
+    scored.dataset = &refined;
+    out[f].solved = true;
+    for (int v : left_out) {
+      const View& view = problem.views[v];
+      if (!r.T_cam_mount[view.camera]) continue;
+      for (double e : ViewErrors(scored, view, *r.T_cam_mount[view.camera], r.T_holder_target[0])) {
+        out[f].sum_sq_px += e * e;
+        ++out[f].points;
+      }
+    }
+  }
+  return out;
 }
 
 }  // namespace handeye::internal

@@ -33,4 +33,20 @@ void CrossValidate(const Problem& problem, const Initialisation& init,
                    const CalibrationOptions& options, const std::optional<RobotPrior>& robot,
                    std::vector<CameraResult::CrossValidation>* out);
 
+/// The views of a fold's robot poses predicted by the joint solve without
+/// them: squared pixel errors summed over their points, and the count.
+struct FoldError {
+  bool solved = false;
+  double sum_sq_px = 0;
+  int points = 0;
+};
+
+/// k-fold over the robot poses that have used views (pose i of them in fold
+/// i mod `folds`): for each fold, the joint solve (from `init`, under `robot`)
+/// without the fold's views, and its prediction of them through the reported
+/// robot poses, with the intrinsics that solve refined.
+std::vector<FoldError> HeldOutErrors(const Problem& problem, const Initialisation& init,
+                                     const CalibrationOptions& options,
+                                     const std::optional<RobotPrior>& robot, int folds);
+
 }  // namespace handeye::internal

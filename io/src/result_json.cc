@@ -262,6 +262,14 @@ std::string ResultJson(const CalibrationResult& result) {
                     {"rounds", result.solver.rounds},
                     {"robot_sigma_mm", result.solver.robot_sigma_mm},
                     {"robot_sigma_deg", result.solver.robot_sigma_deg}};
+  if (result.solver.model) {
+    nlohmann::ordered_json candidates = nlohmann::ordered_json::array();
+    for (const ModelCandidate& m : result.solver.model->candidates)
+      candidates.push_back({{"name", m.name}, {"held_out_rms_px", m.held_out_rms_px}, {"points", m.points}});
+    root["solver"]["model"] = {{"chosen", result.solver.model->chosen},
+                               {"folds", result.solver.model->folds},
+                               {"candidates", candidates}};
+  }
   nlohmann::ordered_json views = nlohmann::ordered_json::array();
   for (const ViewResult& v : result.views) {
     nlohmann::ordered_json entry;
@@ -360,6 +368,19 @@ CalibrationResult LoadResult(const std::string& path) {
   if (solver.Has("rounds")) result.solver.rounds = solver.Key("rounds").Int(0);
   if (solver.Has("robot_sigma_mm")) result.solver.robot_sigma_mm = solver.Key("robot_sigma_mm").Number();
   if (solver.Has("robot_sigma_deg")) result.solver.robot_sigma_deg = solver.Key("robot_sigma_deg").Number();
+  if (solver.Has("model")) {
+    const JsonReader model = solver.Key("model");
+    ModelChoice choice;
+    choice.chosen = model.Key("chosen").String();
+    choice.folds = model.Key("folds").Int(1);
+    const JsonReader candidates = model.Key("candidates");
+    const size_t n = candidates.ArraySize("an array of the robot models compared");
+    for (size_t i = 0; i < n; ++i) {
+      const JsonReader m = candidates.At(i);
+      choice.candidates.push_back({m.Key("name").String(), m.Key("held_out_rms_px").Number(), m.Key("points").Int(0)});
+    }
+    result.solver.model = choice;
+  }
   if (root.Has("views")) {
     const JsonReader views = root.Key("views");
     const size_t n = views.ArraySize("an array of views");

@@ -326,6 +326,24 @@ struct CalibrationMetrics {
 };
 
 /// How the solver ran.
+/// One robot model the joint solve could use, and how well it predicts the
+/// views of robot poses it did not see.
+struct ModelCandidate {
+  std::string name;            ///< "exact robot" or "robot error modelled"
+  double held_out_rms_px = 0;  ///< RMS of the left-out poses' points, predicted without them
+  int points = 0;              ///< points predicted (the same for every candidate)
+};
+
+/// Which robot model the joint solve used and why: where the views suggest
+/// the robot's own pose error, the solve with it and the one with exact poses
+/// each predict the views of every fold of poses from the other folds; the
+/// exact poses stay unless the model predicts better.
+struct ModelChoice {
+  std::string chosen;  ///< a candidate's name
+  int folds = 0;       ///< folds over the robot poses
+  std::vector<ModelCandidate> candidates;
+};
+
 struct SolverSummary {
   double seconds = 0;        ///< wall time of the solve
   int iterations = 0;        ///< Ceres iterations (0 for closed-form methods)
@@ -340,6 +358,9 @@ struct SolverSummary {
   /// poses show, which the cameras' sigma assumes, is in the result's notes.
   double robot_sigma_mm = 0;
   double robot_sigma_deg = 0;
+  /// Set when the robot model was chosen by held-out poses (the default,
+  /// --robot-sigma-mm not given, once the views suggest a robot error).
+  std::optional<ModelChoice> model;
 };
 
 /// Everything a calibration produced. A plain value; frames and units as in
