@@ -198,20 +198,22 @@ ModelChoice CompareRobotModels(const Calibration& c, const Initialisation& init,
 /// other three, and the exact poses stay unless the model predicts better.
 Refinement ModelChosenRounds(Calibration* c, Initialisation* init,
                              std::optional<RobotPrior>* robot) {
+  // No choice where the robot's σ is given (0: exact), or where cameras are
+  // held at an earlier result's poses (which the exact poses would leave
+  // without a usable view when they moved since: the model's pose blocks are
+  // what lets them be kept).
+  if (c->options.robot_sigma_mm >= 0 || !c->options.fixed_cameras.empty())
+    return RobustJointRounds(c, init, robot);
   const Initialisation start = *init;
   const Problem views_before = c->problem;
   const std::vector<Camera> cameras_before = c->working.cameras;
   const size_t warnings_before = c->result.warnings.size();
   Refinement refined = RobustJointRounds(c, init, robot);
-  // Given σ, no robot error seen, or cameras held at an earlier result's
-  // poses (which the exact poses would leave without a usable view when they
-  // moved since: the model's pose blocks are what lets them be kept).
+  if (!*robot) return refined;  // the views showed no robot error
   std::set<int> poses_seen;
   for (const View& view : c->problem.views)
     if (view.used) poses_seen.insert(view.pose);
-  if (!*robot || c->options.robot_sigma_mm >= 0 || !c->options.fixed_cameras.empty() ||
-      static_cast<int>(poses_seen.size()) < kModelChoiceMinPoses)
-    return refined;
+  if (static_cast<int>(poses_seen.size()) < kModelChoiceMinPoses) return refined;
   const ModelChoice choice = CompareRobotModels(
       *c, *init, AtLossScale(c->options, refined.summary.cauchy_scale_px), **robot);
   std::ostringstream note;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace handeye::internal {
 namespace {
@@ -61,16 +62,10 @@ double MedianViewRms(const Problem& problem,
                      const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
                      const Eigen::Isometry3d& T_holder_target) {
   std::vector<double> rms;
-  for (const View& view : problem.views) {
-    if (!view.used || !T_cam_mount[view.camera]) continue;
-    double sum = 0;
-    const auto errors = ViewErrors(problem, view, *T_cam_mount[view.camera], T_holder_target);
-    for (double e : errors) sum += e * e;
-    rms.push_back(std::sqrt(sum / errors.size()));
-  }
-  if (rms.empty()) return std::numeric_limits<double>::infinity();
-  std::nth_element(rms.begin(), rms.begin() + rms.size() / 2, rms.end());
-  return rms[rms.size() / 2];
+  for (const View& view : problem.views)
+    if (view.used && T_cam_mount[view.camera])
+      rms.push_back(ViewRms(ViewErrors(problem, view, *T_cam_mount[view.camera], T_holder_target)));
+  return rms.empty() ? std::numeric_limits<double>::infinity() : Median(std::move(rms));
 }
 
 double ResidualSigmaPx(const Problem& problem,

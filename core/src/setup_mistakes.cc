@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "closed_form.h"
 #include "diagnostics_internal.h"
@@ -151,8 +152,7 @@ Score ScoreOf(Problem scoring, const Hypothesis& h) {
   }
   if (rms.empty()) return score;
   score.views = static_cast<int>(rms.size());
-  std::nth_element(rms.begin(), rms.begin() + rms.size() / 2, rms.end());
-  score.median_rms_px = rms[rms.size() / 2];
+  score.median_rms_px = Median(std::move(rms));
   return score;
 }
 

@@ -2,6 +2,8 @@
 // The rounds around the nonlinear solve: solve, exclude the views far off the
 // solution, set the loss scale from the residuals, solve again; and the
 // leave-one-pose-out validation.
+#include "solve_rounds.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -11,13 +13,20 @@
 #include "problem.h"
 #include "refinement.h"
 #include "residuals.h"
-#include "solve_rounds.h"
 #include "view_consensus.h"
 
 namespace handeye::internal {
 namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
+
+/// Per robot pose, the indices of its used views.
+std::vector<std::vector<int>> UsedViewsAtPose(const Problem& problem) {
+  std::vector<std::vector<int>> views_at_pose(problem.T_mount_holder.size());
+  for (size_t v = 0; v < problem.views.size(); ++v)
+    if (problem.views[v].used) views_at_pose[problem.views[v].pose].push_back(static_cast<int>(v));
+  return views_at_pose;
+}
 
 }  // namespace
 
@@ -97,9 +106,7 @@ void CrossValidate(const Problem& problem, const Initialisation& init,
   out->assign(n, {});
   std::vector<double> sq(n, 0.0), moved_sq(n, 0.0), turned_sq(n, 0.0);
   std::vector<int> points(n, 0), solves(n, 0);
-  std::vector<std::vector<int>> views_at_pose(problem.T_mount_holder.size());
-  for (size_t v = 0; v < problem.views.size(); ++v)
-    if (problem.views[v].used) views_at_pose[problem.views[v].pose].push_back(static_cast<int>(v));
+  const std::vector<std::vector<int>> views_at_pose = UsedViewsAtPose(problem);
   for (size_t j = 0; j < views_at_pose.size(); ++j) {
     if (views_at_pose[j].empty()) continue;
     Problem fold = problem;
@@ -142,9 +149,7 @@ void CrossValidate(const Problem& problem, const Initialisation& init,
 std::vector<FoldError> HeldOutErrors(const Problem& problem, const Initialisation& init,
                                      const CalibrationOptions& options,
                                      const std::optional<RobotPrior>& robot, int folds) {
-  std::vector<std::vector<int>> views_at_pose(problem.T_mount_holder.size());
-  for (size_t v = 0; v < problem.views.size(); ++v)
-    if (problem.views[v].used) views_at_pose[problem.views[v].pose].push_back(static_cast<int>(v));
+  const std::vector<std::vector<int>> views_at_pose = UsedViewsAtPose(problem);
   std::vector<int> poses;
   for (size_t j = 0; j < views_at_pose.size(); ++j)
     if (!views_at_pose[j].empty()) poses.push_back(static_cast<int>(j));
