@@ -6,6 +6,7 @@
 
 #include "handeye/detectors/registry.h"
 #include "handeye/io/dataset_json.h"
+#include "handeye/io/json_util.h"
 #include "io/io_fixtures.h"
 #include "support/test_support.h"
 
@@ -169,6 +170,41 @@ TEST_CASE("handeye detect: bad input exits with 2 and says what is wrong", "[too
     CHECK(test::RunHandeye("detect '" + dataset + "' -o x.json --threads two", &out) == 2);
     CHECK_THAT(out, Contains("--threads: expected 0 (all cores) or a positive count"));
     CHECK_THAT(out, Contains("got two"));
+  }
+}
+
+// OpenCV 4.6's FileStorage recursed once per nesting level: an intrinsics
+// file of 100 KB nesting its camera_matrix 50 000 deep overflowed the stack
+// (exit 139). The same file through the command line, in each of OpenCV's
+// three syntaxes: exit 2 naming the file.
+TEST_CASE("detect refuses an intrinsics file nested 50 000 deep instead of crashing",
+          "[tools][detect][bad]") {
+  const std::string dir = test::TempDir("cli_detect_deep");
+  const std::string dataset = WriteSmallDataset(dir);
+  const auto repeat = [](const std::string& piece, int n) {
+    std::string out;
+    for (int k = 0; k < n; ++k) out += piece;
+    return out;
+  };
+  constexpr int kDeep = 50000;
+  const std::pair<std::string, std::string> files[] = {
+      {"flow.yml", "%YAML:1.0\ncamera_matrix: " + repeat("[", kDeep) + "1" + repeat("]", kDeep) + "\n"},
+      {"block.yml", "camera_matrix:\n  " + repeat("- ", kDeep) + "1\n"},
+      {"deep.json", "{\"camera_matrix\": " + repeat("{\"a\": [", kDeep) + "1" + repeat("]}", kDeep) + "}"},
+      {"deep.xml", "<?xml version=\"1.0\"?>\n<opencv_storage>\n<camera_matrix>" + repeat("<_>", kDeep) + "1" +
+                       repeat("</_>", kDeep) + "</camera_matrix>\n</opencv_storage>\n"}};
+  nlohmann::json d = ReadJsonFile(dataset);
+  d["cameras"][0].erase("intrinsics");
+  d["cameras"][0].erase("distortion");
+  for (const auto& [name, text] : files) {
+    INFO(name);
+    test::WriteText(dir + "/" + name, text);
+    d["cameras"][0]["intrinsics_file"] = {{"path", name}, {"format", "opencv"}};
+    test::WriteText(dir + "/deep_dataset.json", d.dump(2));
+    std::string out;
+    CHECK(test::RunHandeye("detect '" + dir + "/deep_dataset.json' -o '" + dir + "/obs.json'", &out) == 2);
+    CHECK_THAT(out, Contains(name + ": nested more than 64 levels deep"));
+    CHECK_FALSE(std::filesystem::exists(dir + "/obs.json"));
   }
 }
 
