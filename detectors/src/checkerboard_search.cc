@@ -47,6 +47,9 @@ constexpr int kCropMarginMinPx = 40;
 /// 4 px saved more but lost one view of 628 in the large cell.
 constexpr double kMinSaddleSpacingPx = 3.0;
 
+/// A crop of at least this share of the image's area is the whole image.
+constexpr double kWholeImageShare = 0.95;
+
 /// One level of the pyramid: the image scaled down by `factor` (BlockMean).
 struct Level {
   int factor = 1;
@@ -56,6 +59,12 @@ struct Level {
 /// A grid that was found but rejected: the full-image region around it.
 struct Candidate {
   cv::Rect region;
+  /// The accurate search (CALIB_CB_ACCURACY) found a grid here too, and it
+  /// did not verify either: not a grid shifted by one line, which that
+  /// search mends, but a board too oblique or too blurred to refine, which
+  /// no finer level's search changes (RefineGrid always refines on the full
+  /// image). Not searched again.
+  bool settled = false;
 };
 
 /// A part of the full image that may hold a checkerboard's inner corners,
@@ -335,12 +344,19 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
     // with the slower, more accurate corners. Grids rejected in a crop are
     // inside it, so they add no candidate.
     const std::size_t known = candidates.size();
-    for (const int flags : {thorough, accurate}) {
-      for (std::size_t k = 0; k < known; ++k) {
-        if (search(level, candidates[k].region, flags) == Outcome::kFound) return grid;
-        candidates.resize(known);
-      }
-    }
+    // Searches candidate k with `flags`; true when it found the board.
+    auto search_candidate = [&](std::size_t k, int flags) {
+      if (candidates[k].settled) return false;
+      const std::size_t before = candidates.size();
+      const Outcome outcome = search(level, candidates[k].region, flags);
+      if (outcome == Outcome::kFound) return true;
+      candidates.resize(before);
+      if (flags == accurate && outcome == Outcome::kRejected) candidates[k].settled = true;
+      return false;
+    };
+    for (const int flags : {thorough, accurate})
+      for (std::size_t k = 0; k < known; ++k)
+        if (search_candidate(k, flags)) return grid;
     // Where the patches of corner grid are (the cascade's first stage found
     // them), each once, at the coarsest level where its squares are not too
     // small: at 1/4 a crop costs a few ms where the whole image costs 25.
@@ -361,12 +377,17 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
     }
     // Then where the saddle points are; grids rejected there become
     // candidates.
+    // A cluster spread over the whole image (clutter everywhere) makes its
+    // crop the image itself, searched thoroughly: the whole-image search
+    // below would repeat it.
+    bool whole_searched = false;
     if (saddle_regions) {
       for (const Region& cluster : *saddle_regions) {
         if (cluster.square < kMinSaddleSpacingPx * f) continue;
         const cv::Rect region = WithMargin(cluster, f, whole_image);
-        if (!covered(region, known) && search(level, region, thorough) == Outcome::kFound)
-          return grid;
+        if (covered(region, known)) continue;
+        if (search(level, region, thorough) == Outcome::kFound) return grid;
+        whole_searched |= region.area() >= kWholeImageShare * whole_image.area();
       }
     }
     // The whole image, but not at full resolution once a coarser level was
@@ -381,16 +402,13 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
     // preset (608), three rendered cells (480) nor ViSP's Franka chessboard
     // set (8): the boards it could find are found in crops or at 1/2, and the
     // images it ran on (a small oblique board in clutter) took 0.38-0.41 s.
-    if ((f > 1 || first) && !lattice_window) {
+    if ((f > 1 || first) && !lattice_window && !whole_searched) {
       const int whole_flags = first && f > 1 ? quick : thorough;
       if (search(level, whole_image, whole_flags) == Outcome::kFound) return grid;
     }
     first = false;
-    const std::size_t all = candidates.size();
-    for (std::size_t k = known; k < all; ++k) {
-      if (search(level, candidates[k].region, accurate) == Outcome::kFound) return grid;
-      candidates.resize(all);
-    }
+    for (std::size_t k = known, all = candidates.size(); k < all; ++k)
+      if (search_candidate(k, accurate)) return grid;
   }
   return std::nullopt;
 }
