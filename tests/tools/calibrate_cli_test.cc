@@ -110,7 +110,7 @@ TEST_CASE("calibrate --observations-out into a missing folder exits 2 before det
 // exact robot is 1.6 times as far from the truth as the solve given the true
 // sigma. The model the views suggested stays, and lands nearer the truth
 // than the exact robot.
-TEST_CASE("calibrate keeps the robot model where held-out poses cannot tell the two apart",
+TEST_CASE("calibrate keeps the robot model on a rendered ChArUco cell where held-out poses cannot tell the two apart",
           "[cli][calibrate][robot]") {
   const std::string dir = test::TempDir("calibrate_cli_model_tie");
   std::string out;
