@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
+#include <vector>
 
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
@@ -26,6 +28,22 @@ std::vector<std::vector<int>> UsedViewsAtPose(const Problem& problem) {
   for (size_t v = 0; v < problem.views.size(); ++v)
     if (problem.views[v].used) views_at_pose[problem.views[v].pose].push_back(static_cast<int>(v));
   return views_at_pose;
+}
+
+/// The joint solve (from `init`, under `robot`) without the views `left_out`;
+/// nullopt when it cannot be solved.
+std::optional<Refinement> SolveWithout(const Problem& problem, const std::vector<int>& left_out,
+                                       const Initialisation& init,
+                                       const CalibrationOptions& options,
+                                       const std::optional<RobotPrior>& robot) {
+  Problem fold = problem;
+  for (int v : left_out) fold.views[v].used = false;
+  IndexUsedViews(&fold);
+  try {
+    return RefineJoint(fold, init, options, robot);
+  } catch (const SolveError&) {
+    return std::nullopt;
+  }
 }
 
 }  // namespace
@@ -109,15 +127,10 @@ void CrossValidate(const Problem& problem, const Initialisation& init,
   const std::vector<std::vector<int>> views_at_pose = UsedViewsAtPose(problem);
   for (size_t j = 0; j < views_at_pose.size(); ++j) {
     if (views_at_pose[j].empty()) continue;
-    Problem fold = problem;
-    for (int v : views_at_pose[j]) fold.views[v].used = false;
-    IndexUsedViews(&fold);
-    Refinement r;
-    try {
-      r = RefineJoint(fold, init, options, robot);
-    } catch (const SolveError&) {
-      continue;  // a fold that cannot be solved tells nothing about the others
-    }
+    const std::optional<Refinement> solved =
+        SolveWithout(problem, views_at_pose[j], init, options, robot);
+    if (!solved) continue;  // a fold that cannot be solved tells nothing about the others
+    const Refinement& r = *solved;
     for (int v : views_at_pose[j]) {
       const View& view = problem.views[v];
       if (!r.T_cam_mount[view.camera]) continue;
@@ -159,15 +172,9 @@ std::vector<FoldError> HeldOutErrors(const Problem& problem, const Initialisatio
     for (size_t i = f; i < poses.size(); i += folds)
       left_out.insert(left_out.end(), views_at_pose[poses[i]].begin(),
                       views_at_pose[poses[i]].end());
-    Problem fold = problem;
-    for (int v : left_out) fold.views[v].used = false;
-    IndexUsedViews(&fold);
-    Refinement r;
-    try {
-      r = RefineJoint(fold, init, options, robot);
-    } catch (const SolveError&) {
-      continue;  // a fold that cannot be solved predicts nothing
-    }
+    const std::optional<Refinement> solved = SolveWithout(problem, left_out, init, options, robot);
+    if (!solved) continue;  // a fold that cannot be solved predicts nothing
+    const Refinement& r = *solved;
     // The left-out views seen through the fold's own intrinsics (ViewErrors
     // reads the cameras alone; the views keep pointing at their observations).
     Dataset refined;

@@ -325,7 +325,6 @@ struct CalibrationMetrics {
   double axzb_camera_translation_mm = 0;
 };
 
-/// How the solver ran.
 /// One robot model the joint solve could use, and how well it predicts the
 /// views of robot poses it did not see.
 struct ModelCandidate {
@@ -346,6 +345,7 @@ struct ModelChoice {
   std::vector<ModelCandidate> candidates;
 };
 
+/// How the solver ran.
 struct SolverSummary {
   double seconds = 0;        ///< wall time of the solve
   int iterations = 0;        ///< Ceres iterations (0 for closed-form methods)
