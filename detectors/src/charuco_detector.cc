@@ -4,14 +4,15 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <map>
-#include <set>
 #include <opencv2/aruco/charuco.hpp>
+#include <set>
 #include <stdexcept>
 #include <utility>
 #include <variant>
 
 #include "charuco_growth.h"
 #include "charuco_layout.h"
+#include "charuco_squares.h"
 #include "corner_refinement.h"
 #include "grid_patch.h"
 #include "handeye/core/error.h"
@@ -68,6 +69,11 @@ constexpr double kMaxWindowPx = 30.0;
 /// against other layouts than the declared one (OtherLayouts): fewer fit
 /// any layout too easily.
 constexpr std::size_t kMinMarkersToJudgeLayout = 6;
+/// A corner the black squares placed too far from its X-junction is
+/// predicted again from the corners found within this many squares (along
+/// each board axis), when there are at least kMinRepredictSupport of them.
+constexpr double kRepredictSquares = 2.0;
+constexpr std::size_t kMinRepredictSupport = 5;
 
 }  // namespace
 
@@ -243,9 +249,8 @@ std::variant<Eigen::Vector2d, const char*> CharucoDetector::RefineCorner(
   std::array<Eigen::AlignedBox2d, 2> marker_boxes;
   for (int k = 0; k < 2; ++k) {
     const auto corners = target_->MarkerCorners(target_->MarkersAtCorner(id)[k]);
-    marker_boxes[k] =
-        Eigen::AlignedBox2d(corners[0].head<2>() - Eigen::Vector2d::Constant(grow_m),
-                            corners[2].head<2>() + Eigen::Vector2d::Constant(grow_m));
+    marker_boxes[k] = Eigen::AlignedBox2d(corners[0].head<2>() - Eigen::Vector2d::Constant(grow_m),
+                                          corners[2].head<2>() + Eigen::Vector2d::Constant(grow_m));
   }
   const auto off_markers = [&](int x, int y) {
     const Eigen::Vector2d q = internal::ApplyHomography(board_from_image, Eigen::Vector2d(x, y));
@@ -255,6 +260,73 @@ std::variant<Eigen::Vector2d, const char*> CharucoDetector::RefineCorner(
   if (!refined) return "refinement";
   if ((*refined - predicted).norm() > tolerance_px) return "homography";
   return *refined;
+}
+
+void CharucoDetector::AddCornersBySquares(
+    const cv::Mat& gray, const std::vector<std::vector<cv::Point2f>>& candidates,
+    const std::vector<int>& marker_ids, const std::vector<std::vector<cv::Point2f>>& marker_corners,
+    std::vector<std::pair<int, Eigen::Vector2d>>* found) const {
+  std::map<int, Eigen::Vector2d> known(found->begin(), found->end());
+  std::vector<internal::PlacedCorner> left;
+  std::set<int> squares_placed;
+  for (const auto& corner :
+       internal::PlaceCornersBySquares(*target_, gray, candidates, marker_ids, marker_corners)) {
+    if (known.count(corner.id)) continue;
+    const auto refined =
+        RefineCorner(gray, corner.id, corner.H_image_target, corner.guess_px, {}, {});
+    if (const auto* uv = std::get_if<Eigen::Vector2d>(&refined)) {
+      found->emplace_back(corner.id, *uv);
+      known[corner.id] = *uv;
+      squares_placed.insert(corner.id);
+    } else {
+      left.push_back(corner);
+    }
+  }
+  // The squares' quadrilaterals place a corner to a pixel or so: its window
+  // and the markers it leaves out follow that homography. Each corner is
+  // refined once more with the homography of the corners refined around it
+  // (as the growth from decoded markers does), and one placed too far from
+  // its X-junction is found that way.
+  const double L = target_->square_size_m();
+  const auto refit = [&](int id) -> std::optional<Eigen::Matrix3d> {
+    const Eigen::Vector2d xy = target_->FindPoint(id)->p_target.head<2>();
+    std::vector<Eigen::Vector2d> board, image;
+    for (const auto& [other, uv] : known) {
+      const Eigen::Vector2d other_xy = target_->FindPoint(other)->p_target.head<2>();
+      if (((other_xy - xy).cwiseAbs() / L).maxCoeff() > kRepredictSquares) continue;
+      board.push_back(other_xy);
+      image.push_back(uv);
+    }
+    if (board.size() < kMinRepredictSupport) return std::nullopt;
+    return internal::FitHomography(board, image);
+  };
+  for (auto& [id, uv] : *found) {
+    if (!squares_placed.count(id)) continue;
+    const auto H = refit(id);
+    if (!H) continue;
+    const auto refined = RefineCorner(gray, id, *H, uv, {}, {});
+    if (const auto* again = std::get_if<Eigen::Vector2d>(&refined)) uv = *again;
+  }
+  for (const auto& [id, uv] : *found) known[id] = uv;
+  for (bool grew = true; grew && !left.empty();) {
+    grew = false;
+    for (auto it = left.begin(); it != left.end();) {
+      const auto H = refit(it->id);
+      if (H) {
+        const Eigen::Vector2d xy = target_->FindPoint(it->id)->p_target.head<2>();
+        const auto refined =
+            RefineCorner(gray, it->id, *H, internal::ApplyHomography(*H, xy), {}, {});
+        if (const auto* uv = std::get_if<Eigen::Vector2d>(&refined)) {
+          found->emplace_back(it->id, *uv);
+          known[it->id] = *uv;
+          it = left.erase(it);
+          grew = true;
+          continue;
+        }
+      }
+      ++it;
+    }
+  }
 }
 
 std::optional<Detection> CharucoDetector::Find(const cv::Mat& gray,
@@ -298,12 +370,12 @@ std::optional<Detection> CharucoDetector::Find(const cv::Mat& gray,
     if (mismatch) *mismatch = LayoutMismatch(kept_ids, kept_corners);
     return std::nullopt;
   };
-  if (kept_ids.size() < 2) return none();
-
+  // Two markers interpolate the corners between them.
   std::vector<cv::Point2f> interpolated;
   std::vector<int> corner_ids;
-  cv::aruco::interpolateCornersCharuco(kept_corners, kept_ids, gray, cv_->board, interpolated,
-                                       corner_ids);
+  if (kept_ids.size() >= 2)
+    cv::aruco::interpolateCornersCharuco(kept_corners, kept_ids, gray, cv_->board, interpolated,
+                                         corner_ids);
 
   const double L = target_->square_size_m();
   std::vector<std::pair<int, Eigen::Vector2d>> found;
@@ -357,17 +429,22 @@ std::optional<Detection> CharucoDetector::Find(const cv::Mat& gray,
       if (const auto* found_uv = std::get_if<Eigen::Vector2d>(&refined)) uv = *found_uv;
       return uv;
     };
-    const auto added = internal::GrowCharucoCorners(*target_, kept_ids, kept_corners, found, refine);
-    if (rejected && !added.empty()) {
-      std::set<int> now_found;
-      for (const auto& [id, uv] : added) now_found.insert(id);
-      rejected->erase(std::remove_if(rejected->begin(), rejected->end(),
-                                     [&](const CharucoRejection& r) {
-                                       return now_found.count(r.corner_id) > 0;
-                                     }),
-                      rejected->end());
-    }
+    const auto added =
+        internal::GrowCharucoCorners(*target_, kept_ids, kept_corners, found, refine);
     found.insert(found.end(), added.begin(), added.end());
+  }
+  // Markers too small to decode at this tilt: the black squares number the
+  // corners.
+  if (found.size() < target_->Points().size())
+    AddCornersBySquares(gray, candidates, kept_ids, kept_corners, &found);
+  // A corner rejected next to the decoded markers may have been found since.
+  if (rejected) {
+    std::set<int> now_found;
+    for (const auto& [id, uv] : found) now_found.insert(id);
+    rejected->erase(
+        std::remove_if(rejected->begin(), rejected->end(),
+                       [&](const CharucoRejection& r) { return now_found.count(r.corner_id) > 0; }),
+        rejected->end());
   }
   if (static_cast<int>(found.size()) < options_.min_corners) return none();
   std::sort(found.begin(), found.end(),

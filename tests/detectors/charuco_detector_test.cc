@@ -4,6 +4,8 @@
 // cameras, clutter, blur and noise) accurately, with no wrong ids.
 #include "handeye/detectors/charuco_detector.h"
 
+#include <array>
+#include <map>
 #include <catch2/catch.hpp>
 #include <opencv2/aruco/charuco.hpp>
 #include <opencv2/imgproc.hpp>
@@ -39,6 +41,12 @@ test::ViewSampling Sampling(double min_px, double max_px) {
 // Wrong id: farther from its true corner than a quarter of the smallest
 // square (20 px markers: 27 px squares); scoring margin: 6 px.
 constexpr double kWrongPx = 3.0, kBorderPx = 6.0;
+
+double Mean(const std::vector<double>& values) {
+  double sum = 0;
+  for (double v : values) sum += v;
+  return values.empty() ? 0.0 : sum / static_cast<double>(values.size());
+}
 
 }  // namespace
 
@@ -192,36 +200,33 @@ TEST_CASE("charuco: no wrong ids over 200 rendered 640x480 views", "[charuco][id
   CHECK(score.Rate() >= 0.99);
 }
 
-TEST_CASE("charuco: corners next to misplaced markers fail the local homography and are left out",
+TEST_CASE("charuco: corners next to misplaced markers fail the local homography; the black squares place them",
           "[charuco][homography]") {
   // A misprinted board, markers 2 and 12 swapped: OpenCV's interpolation puts
   // the corners around them (and their neighbours) in the wrong place, as
   // OpenCV 4.6 also does on its own (opencv_contrib issues 3301, 3367). The
-  // two markers of such a corner do not fit one homography.
+  // two markers of such a corner do not fit one homography, and the corner is
+  // not taken from them; the lattice of black squares, placed by the other
+  // 15 markers (two disagreeing against 15 agreeing), puts each where it is.
   const auto board = MakeCharucoTarget(BoardSpec());
   MarkerCodebook swapped = board->dictionary();
   std::swap(swapped.codes[2], swapped.codes[12]);
   const CharucoTarget misprint(BoardSpec(), swapped);
   const CharucoDetector detector(board);
   const Camera camera = test::PinholeCamera(1280, 720, 900);
-  int rejected_homography = 0;
   test::Score score;
   for (int k = 0; k < 4; ++k) {
     const Eigen::Isometry3d T =
         test::ViewAt(camera, misprint, 640 + 40 * k, 360, 900 * kMarkerM / 35, 0.4 * k, 0.2 * k);
     RenderOptions render;
     render.seed = 70 + k;
-    std::vector<CharucoRejection> rejected;
-    const auto detection = detector.Detect(RenderView(camera, misprint, T, render), &rejected);
-    for (const auto& r : rejected) rejected_homography += r.reason == "homography";
+    const auto detection = detector.Detect(RenderView(camera, misprint, T, render));
     test::ScoreView(camera, *board, T, test::CharucoMarkers(*board), detection, 20, kBorderPx, 1.0,
                     8, &score);
   }
   INFO(score.Summary());
-  CHECK(rejected_homography >= 4);
   CHECK(score.wrong == 0);
-  // Corners away from the swapped markers are still found.
-  CHECK(score.found >= 4 * 16);
+  CHECK(score.found == score.expected);
 }
 
 TEST_CASE("charuco: corners all on one line are no view; min_corners from the target",
@@ -253,47 +258,90 @@ TEST_CASE("charuco: corners all on one line are no view; min_corners from the ta
   }
 }
 
+namespace {
+
+/// What the detector found in 12 rendered views of the 7x5 board from a cell
+/// camera (1920x1080, fx 1371): squares `square_px` wide face-on, tilted
+/// from `first_deg` over `span_deg`, centred near the image centre (offsets
+/// `step_px` apart), blur and noise growing from view to view.
+struct ObliqueViews {
+  int found = 0, complete = 0, corners = 0, wrong = 0;
+  std::vector<double> errors;
+  std::map<int, std::vector<double>> errors_by_5_deg;  ///< tilt rounded down to 5 degrees
+};
+
+ObliqueViews DetectObliqueViews(double square_px, double first_deg, double span_deg,
+                                const Eigen::Vector2d& step_px, double spin_rad, unsigned seed) {
+  const auto board = MakeCharucoTarget(BoardSpec());
+  const CharucoDetector detector(board);
+  const Camera camera = test::PinholeCamera(1920, 1080, 1371);
+  const double distance = 1371 * kSquareM / square_px;
+  ObliqueViews views;
+  for (int k = 0; k < 12; ++k) {
+    const double tilt_deg = first_deg + span_deg * (k + 0.5) / 12;
+    const Eigen::Isometry3d T =
+        test::ViewAt(camera, *board, 960 + step_px.x() * (k % 3), 540 - step_px.y() * (k % 4),
+                     distance, 2 * M_PI * k / 12 + spin_rad, tilt_deg * M_PI / 180);
+    RenderOptions render;
+    render.blur_sigma_px = 0.6 + 0.05 * k;
+    render.noise_sigma = 2 + 0.3 * k;
+    render.seed = seed + k;
+    const auto detection = detector.Detect(RenderView(camera, *board, T, render));
+    if (!detection) continue;
+    ++views.found;
+    views.complete += detection->ids.size() == board->Points().size();
+    for (std::size_t i = 0; i < detection->ids.size(); ++i) {
+      const auto truth = camera.Project(T * board->FindPoint(detection->ids[i])->p_target);
+      const double error = truth ? (detection->points_px[i] - *truth).norm() : 1e9;
+      if (error > kWrongPx) {
+        ++views.wrong;
+        continue;
+      }
+      ++views.corners;
+      views.errors.push_back(error);
+      views.errors_by_5_deg[5 * static_cast<int>(tilt_deg / 5)].push_back(error);
+    }
+  }
+  return views;
+}
+
+}  // namespace
+
 TEST_CASE("charuco seen at 60-70 degrees: the decoded markers number the corners of the rest",
           "[charuco][oblique]") {
   // A cell camera (1920x1080, fx 1371) sees a 7x5 board of 28 px squares
   // (20 px markers, 2.9 px per bit) face-on; tilted by 60-70 degrees its far
   // markers no longer decode, so the corners between two decoded markers
   // were all that was found. Every corner of a view found is one square from
-  // others on the board: grown from the decoded markers, all 24 are found.
-  const auto board = MakeCharucoTarget(BoardSpec());
-  const CharucoDetector detector(board);
-  const Camera camera = test::PinholeCamera(1920, 1080, 1371);
-  const double distance = 1371 * kSquareM / 28;
-  int views_found = 0, complete = 0, wrong = 0;
-  std::vector<double> errors;
-  for (int k = 0; k < 12; ++k) {
-    const double tilt = (60 + 10 * (k + 0.5) / 12) * M_PI / 180;
-    const Eigen::Isometry3d T =
-        test::ViewAt(camera, *board, 960 + 40 * (k % 3), 540 - 30 * (k % 4), distance,
-                     2 * M_PI * k / 12 + 0.2, tilt);
-    RenderOptions render;
-    render.blur_sigma_px = 0.6 + 0.05 * k;
-    render.noise_sigma = 2 + 0.3 * k;
-    render.seed = 700 + k;
-    const auto detection = detector.Detect(RenderView(camera, *board, T, render));
-    if (!detection) continue;
-    ++views_found;
-    complete += detection->ids.size() == board->Points().size();
-    for (std::size_t i = 0; i < detection->ids.size(); ++i) {
-      const auto truth = camera.Project(T * board->FindPoint(detection->ids[i])->p_target);
-      const double error = truth ? (detection->points_px[i] - *truth).norm() : 1e9;
-      if (error > kWrongPx)
-        ++wrong;
-      else
-        errors.push_back(error);
-    }
-  }
-  double mean_error = 0;
-  for (double e : errors) mean_error += e / static_cast<double>(errors.size());
-  INFO(views_found << " of 12 views found, " << complete << " with all corners, " << wrong
-                   << " wrong ids, mean error " << mean_error << " px");
-  CHECK(views_found >= 4);
-  CHECK(complete == views_found);
-  CHECK(wrong == 0);
-  CHECK(mean_error <= 0.15);
+  // others on the board: grown from the decoded markers, all 24 are found in
+  // the 5 views where three markers decode. In the other 7 (fewer markers
+  // decode, up to none) the black squares number the corners; beyond 65
+  // degrees their narrow side is under 8 px, and some are left out.
+  const ObliqueViews views = DetectObliqueViews(28, 60, 10, {40, 30}, 0.2, 700);
+  INFO(views.found << " of 12 views found, " << views.complete << " with all corners, "
+                   << views.wrong << " wrong ids, mean error " << Mean(views.errors)
+                   << " px (60-65 degrees " << Mean(views.errors_by_5_deg.at(60)) << ", 65-70 "
+                   << Mean(views.errors_by_5_deg.at(65)) << ")");
+  CHECK(views.found == 12);
+  CHECK(views.complete >= 8);
+  CHECK(views.wrong == 0);
+  CHECK(Mean(views.errors_by_5_deg.at(60)) <= 0.15);
+  CHECK(Mean(views.errors_by_5_deg.at(65)) <= 0.35);
+}
+
+TEST_CASE("charuco too far for its markers to decode: the black squares and the markers' grey levels number the corners",
+          "[charuco][oblique]") {
+  // The cell camera of the test above farther away: 18 px squares, 13 px
+  // markers, 1.9 px per bit face-on, a pixel or less across the tilt at
+  // 45-65 degrees, blurred and noisy. OpenCV decodes none or few of the
+  // markers beyond 50 degrees (4 views of 12 found, 96 corners), but it finds
+  // the black squares as quadrilaterals; joined corner to corner they are a
+  // lattice, and the markers' grey levels say where on the board it lies.
+  const ObliqueViews views = DetectObliqueViews(18, 45, 20, {120, 80}, 0.4, 900);
+  INFO(views.found << " of 12 views found, " << views.corners << " of 288 corners, "
+                   << views.wrong << " wrong ids, mean error " << Mean(views.errors) << " px");
+  CHECK(views.found >= 10);
+  CHECK(views.corners >= 200);
+  CHECK(views.wrong == 0);
+  CHECK(Mean(views.errors) <= 0.3);
 }

@@ -99,6 +99,14 @@ class CharucoDetector : public Detector {
       const cv::Mat& gray, int id, const Eigen::Matrix3d& H, const Eigen::Vector2d& guess,
       const std::vector<Eigen::Vector2d>& board_xy,
       const std::vector<Eigen::Vector2d>& image_uv) const;
+  /// Adds to `found` (ids, pixels) the corners the black squares among
+  /// OpenCV's rejected `candidates` number (internal::PlaceCornersBySquares),
+  /// given the markers decoded.
+  void AddCornersBySquares(const cv::Mat& gray,
+                           const std::vector<std::vector<cv::Point2f>>& candidates,
+                           const std::vector<int>& marker_ids,
+                           const std::vector<std::vector<cv::Point2f>>& marker_corners,
+                           std::vector<std::pair<int, Eigen::Vector2d>>* found) const;
   struct OpenCvState;
   std::shared_ptr<const CharucoTarget> target_;
   Options options_;
