@@ -315,18 +315,21 @@ TEST_CASE("charuco seen at 60-70 degrees: the decoded markers number the corners
   // were all that was found. Every corner of a view found is one square from
   // others on the board: grown from the decoded markers, all 24 are found in
   // the 5 views where three markers decode. In the other 7 (fewer markers
-  // decode, up to none) the black squares number the corners; beyond 65
-  // degrees their narrow side is under 8 px, and some are left out.
+  // decode, up to none) the black squares number the corners. The markers
+  // are left out of each corner's window as the image shows them (they were
+  // grown on the board by 2 px of the narrow direction, which beyond 65
+  // degrees covered the corner: 0.27 px mean error there, 4 views short of
+  // all 24 corners).
   const ObliqueViews views = DetectObliqueViews(28, 60, 10, {40, 30}, 0.2, 700);
   INFO(views.found << " of 12 views found, " << views.complete << " with all corners, "
                    << views.wrong << " wrong ids, mean error " << Mean(views.errors)
                    << " px (60-65 degrees " << Mean(views.errors_by_5_deg.at(60)) << ", 65-70 "
                    << Mean(views.errors_by_5_deg.at(65)) << ")");
   CHECK(views.found == 12);
-  CHECK(views.complete >= 8);
+  CHECK(views.complete == 12);
   CHECK(views.wrong == 0);
-  CHECK(Mean(views.errors_by_5_deg.at(60)) <= 0.15);
-  CHECK(Mean(views.errors_by_5_deg.at(65)) <= 0.35);
+  CHECK(Mean(views.errors_by_5_deg.at(60)) <= 0.1);
+  CHECK(Mean(views.errors_by_5_deg.at(65)) <= 0.15);
 }
 
 TEST_CASE("charuco too far for its markers to decode: the black squares and the markers' grey levels number the corners",
@@ -341,7 +344,7 @@ TEST_CASE("charuco too far for its markers to decode: the black squares and the 
   INFO(views.found << " of 12 views found, " << views.corners << " of 288 corners, "
                    << views.wrong << " wrong ids, mean error " << Mean(views.errors) << " px");
   CHECK(views.found >= 10);
-  CHECK(views.corners >= 200);
+  CHECK(views.corners >= 240);
   CHECK(views.wrong == 0);
-  CHECK(Mean(views.errors) <= 0.3);
+  CHECK(Mean(views.errors) <= 0.2);
 }

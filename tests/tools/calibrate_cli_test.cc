@@ -105,18 +105,18 @@ TEST_CASE("calibrate --observations-out into a missing folder exits 2 before det
 }
 
 // A ChArUco cell with robot noise 0.1 mm / 0.01 deg (bench/robot-model, seed
-// 3): the modelled solve predicts the held-out poses a little worse than the
-// exact one (0.18 against 0.163 px), a tie the data cannot decide, and the
-// exact robot is 1.6 times as far from the truth as the solve given the true
-// sigma (0.767 against 0.487 mm). The model the views suggested stays, and
-// lands nearer the truth than the exact robot (0.639 mm). (Before the black
-// squares numbered the boards whose markers do not decode, 39 views instead
-// of 41: 0.586 against 0.785 mm.)
+// 2): the modelled solve predicts the held-out poses a little worse than the
+// exact one (0.152 against 0.142 px), a tie the data cannot decide, and the
+// exact robot is 1.7 times as far from the truth as the solve given the true
+// sigma (0.642 against 0.382 mm). The model the views suggested stays, and
+// lands nearer the truth than the exact robot (0.375 mm). (Seed 3 was such a
+// tie before the detector numbered boards whose markers do not decode; with
+// 43 views instead of 39 the model there predicts better, no tie.)
 TEST_CASE("calibrate keeps the robot model on a rendered ChArUco cell where held-out poses cannot tell the two apart",
           "[cli][calibrate][robot]") {
   const std::string dir = test::TempDir("calibrate_cli_model_tie");
   std::string out;
-  REQUIRE(test::RunHandeye("simulate " + dir + "/sim --target charuco --poses 24 --seed 3 --pose-noise-mm 0.1 "
+  REQUIRE(test::RunHandeye("simulate " + dir + "/sim --target charuco --poses 24 --seed 2 --pose-noise-mm 0.1 "
                            "--pose-noise-deg 0.01 --quiet",
                            &out) == 0);
   REQUIRE(test::RunHandeye("calibrate " + dir + "/sim/dataset.json -o " + dir + "/result.json", &out) == 0);
@@ -135,5 +135,5 @@ TEST_CASE("calibrate keeps the robot model on a rendered ChArUco cell where held
     REQUIRE(test::RunHandeye("evaluate " + result + " " + dir + "/sim/ground_truth.json --json", &out) == 0);
     return nlohmann::json::parse(out.substr(out.find('{')))["mean_translation_mm"].get<double>();
   };
-  CHECK(mean_mm(dir + "/result.json") < 0.85 * mean_mm(dir + "/exact.json"));
+  CHECK(mean_mm(dir + "/result.json") < 0.8 * mean_mm(dir + "/exact.json"));
 }

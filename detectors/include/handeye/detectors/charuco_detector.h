@@ -107,6 +107,10 @@ class CharucoDetector : public Detector {
                            const std::vector<int>& marker_ids,
                            const std::vector<std::vector<cv::Point2f>>& marker_corners,
                            std::vector<std::pair<int, Eigen::Vector2d>>* found) const;
+  /// Drops from `found`, worst first, each corner farther from where the
+  /// corners found around it put it than the homography tolerance: a
+  /// corner refined to the wrong junction, whichever way it was found.
+  void DropCornersOffTheirNeighbours(std::vector<std::pair<int, Eigen::Vector2d>>* found) const;
   struct OpenCvState;
   std::shared_ptr<const CharucoTarget> target_;
   Options options_;
