@@ -125,6 +125,58 @@ std::optional<Eigen::Matrix3d> NeighbourHomography(const CharucoTarget& target,
   return internal::FitHomography(board, image);
 }
 
+/// Adds to `found` (ids, pixels) the corners the black squares `placed`
+/// (internal::PlaceCornersBySquares) that are not in it yet, refined by
+/// `refine` (internal::CharucoCornerRefiner).
+void AddPlacedCorners(const CharucoTarget& target,
+                      const std::vector<internal::PlacedCorner>& placed,
+                      const internal::CharucoCornerRefiner& refine,
+                      std::vector<std::pair<int, Eigen::Vector2d>>* found) {
+  std::map<int, Eigen::Vector2d> known(found->begin(), found->end());
+  std::vector<internal::PlacedCorner> left;
+  std::set<int> squares_placed;
+  for (const auto& corner : placed) {
+    if (known.count(corner.id)) continue;
+    if (const auto uv = refine(corner.id, corner.H_image_target, corner.guess_px)) {
+      found->emplace_back(corner.id, *uv);
+      known[corner.id] = *uv;
+      squares_placed.insert(corner.id);
+    } else {
+      left.push_back(corner);
+    }
+  }
+  // The squares' quadrilaterals place a corner to a pixel or so: its window
+  // and the markers it leaves out follow that homography. Each corner is
+  // refined once more with the homography of the corners refined around it
+  // (as the growth from decoded markers does), and one placed too far from
+  // its X-junction is found that way.
+  const auto refit = [&](int id) { return NeighbourHomography(target, known, id); };
+  for (auto& [id, uv] : *found) {
+    if (!squares_placed.count(id)) continue;
+    const auto H = refit(id);
+    if (!H) continue;
+    if (const auto again = refine(id, *H, uv)) uv = *again;
+  }
+  for (const auto& [id, uv] : *found) known[id] = uv;
+  for (bool grew = true; grew && !left.empty();) {
+    grew = false;
+    for (auto it = left.begin(); it != left.end();) {
+      const auto H = refit(it->id);
+      if (H) {
+        const Eigen::Vector2d xy = target.FindPoint(it->id)->p_target.head<2>();
+        if (const auto uv = refine(it->id, *H, internal::ApplyHomography(*H, xy))) {
+          found->emplace_back(it->id, *uv);
+          known[it->id] = *uv;
+          it = left.erase(it);
+          grew = true;
+          continue;
+        }
+      }
+      ++it;
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> ArucoDictionaryNames() {
@@ -315,61 +367,6 @@ std::variant<Eigen::Vector2d, const char*> CharucoDetector::RefineCorner(
   return *refined;
 }
 
-void CharucoDetector::AddCornersBySquares(
-    const cv::Mat& gray, const std::vector<std::vector<cv::Point2f>>& candidates,
-    const std::vector<int>& marker_ids, const std::vector<std::vector<cv::Point2f>>& marker_corners,
-    std::vector<std::pair<int, Eigen::Vector2d>>* found) const {
-  std::map<int, Eigen::Vector2d> known(found->begin(), found->end());
-  std::vector<internal::PlacedCorner> left;
-  std::set<int> squares_placed;
-  for (const auto& corner :
-       internal::PlaceCornersBySquares(*target_, gray, candidates, marker_ids, marker_corners)) {
-    if (known.count(corner.id)) continue;
-    const auto refined =
-        RefineCorner(gray, corner.id, corner.H_image_target, corner.guess_px, {}, {});
-    if (const auto* uv = std::get_if<Eigen::Vector2d>(&refined)) {
-      found->emplace_back(corner.id, *uv);
-      known[corner.id] = *uv;
-      squares_placed.insert(corner.id);
-    } else {
-      left.push_back(corner);
-    }
-  }
-  // The squares' quadrilaterals place a corner to a pixel or so: its window
-  // and the markers it leaves out follow that homography. Each corner is
-  // refined once more with the homography of the corners refined around it
-  // (as the growth from decoded markers does), and one placed too far from
-  // its X-junction is found that way.
-  const auto refit = [&](int id) { return NeighbourHomography(*target_, known, id); };
-  for (auto& [id, uv] : *found) {
-    if (!squares_placed.count(id)) continue;
-    const auto H = refit(id);
-    if (!H) continue;
-    const auto refined = RefineCorner(gray, id, *H, uv, {}, {});
-    if (const auto* again = std::get_if<Eigen::Vector2d>(&refined)) uv = *again;
-  }
-  for (const auto& [id, uv] : *found) known[id] = uv;
-  for (bool grew = true; grew && !left.empty();) {
-    grew = false;
-    for (auto it = left.begin(); it != left.end();) {
-      const auto H = refit(it->id);
-      if (H) {
-        const Eigen::Vector2d xy = target_->FindPoint(it->id)->p_target.head<2>();
-        const auto refined =
-            RefineCorner(gray, it->id, *H, internal::ApplyHomography(*H, xy), {}, {});
-        if (const auto* uv = std::get_if<Eigen::Vector2d>(&refined)) {
-          found->emplace_back(it->id, *uv);
-          known[it->id] = *uv;
-          it = left.erase(it);
-          grew = true;
-          continue;
-        }
-      }
-      ++it;
-    }
-  }
-}
-
 void CharucoDetector::DropCornersOffTheirNeighbours(
     std::vector<std::pair<int, Eigen::Vector2d>>* found) const {
   std::map<int, Eigen::Vector2d> known(found->begin(), found->end());
@@ -488,25 +485,43 @@ std::optional<Detection> CharucoDetector::Find(const cv::Mat& gray,
     found.emplace_back(id, std::get<Eigen::Vector2d>(refined));
   }
 
+  // A corner predicted from its neighbours (no markers to check it against).
+  const auto refine = [&](int id, const Eigen::Matrix3d& H, const Eigen::Vector2d& guess) {
+    std::optional<Eigen::Vector2d> uv;
+    if (guess.x() < 0 || guess.y() < 0 || guess.x() > gray.cols - 1 || guess.y() > gray.rows - 1)
+      return uv;
+    const auto refined = RefineCorner(gray, id, H, guess, {}, {});
+    if (const auto* found_uv = std::get_if<Eigen::Vector2d>(&refined)) uv = *found_uv;
+    return uv;
+  };
   // A board seen obliquely: its far markers do not decode, but its squares'
   // corners are still there, and the markers that do decode number them.
   if (found.size() < target_->Points().size()) {
-    const auto refine = [&](int id, const Eigen::Matrix3d& H, const Eigen::Vector2d& guess) {
-      std::optional<Eigen::Vector2d> uv;
-      if (guess.x() < 0 || guess.y() < 0 || guess.x() > gray.cols - 1 || guess.y() > gray.rows - 1)
-        return uv;
-      const auto refined = RefineCorner(gray, id, H, guess, {}, {});
-      if (const auto* found_uv = std::get_if<Eigen::Vector2d>(&refined)) uv = *found_uv;
-      return uv;
-    };
     const auto added =
         internal::GrowCharucoCorners(*target_, kept_ids, kept_corners, found, refine);
     found.insert(found.end(), added.begin(), added.end());
   }
   // Markers too small to decode at this tilt: the black squares number the
-  // corners.
-  if (found.size() < target_->Points().size())
-    AddCornersBySquares(gray, candidates, kept_ids, kept_corners, &found);
+  // corners. Where too few markers decoded to tell the print's layout
+  // (LayoutMismatch), the squares tell it too: a print the markers' grey
+  // levels say is laid out otherwise is no view of the declared board.
+  {
+    const auto declared =
+        internal::PlaceCornersBySquares(*target_, gray, candidates, kept_ids, kept_corners);
+    bool declared_leads = true;
+    for (const auto& [layout, advice] : cv_->other_layouts) {
+      const auto other =
+          internal::PlaceCornersBySquares(*layout, gray, candidates, kept_ids, kept_corners);
+      if (!other.corners.empty() &&
+          other.correlation >= declared.correlation + internal::kMinLead) {
+        if (mismatch) *mismatch = advice;
+        return std::nullopt;
+      }
+      if (other.correlation > declared.correlation - internal::kMinLead) declared_leads = false;
+    }
+    if (declared_leads && found.size() < target_->Points().size())
+      AddPlacedCorners(*target_, declared.corners, refine, &found);
+  }
   // A corner rejected next to the decoded markers may have been found since.
   if (rejected) {
     std::set<int> now_found;
@@ -517,6 +532,10 @@ std::optional<Detection> CharucoDetector::Find(const cv::Mat& gray,
         rejected->end());
   }
   DropCornersOffTheirNeighbours(&found);
+  // Markers of another layout can still fit one homography among themselves
+  // (a row of an old-style print, shifted by a square) and number a whole
+  // board a square off: the markers decoded must fit the declared layout.
+  if (!LayoutMismatch(kept_ids, kept_corners).empty()) return none();
   if (static_cast<int>(found.size()) < options_.min_corners) return none();
   std::sort(found.begin(), found.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });

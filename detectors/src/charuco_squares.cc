@@ -36,7 +36,6 @@ constexpr double kLocalSquares = 1.6;
 /// print with at least this correlation and clearly better than under any
 /// other placement.
 constexpr double kMinCorrelation = 0.3;
-constexpr double kMinLead = 0.15;
 /// Markers OpenCV decoded that must lie where a placement puts them for each
 /// one that does not (a misread) before the placement is tried.
 constexpr int kMinAgreeingPerMisread = 3;
@@ -356,11 +355,11 @@ std::pair<int, int> DecodedMarkersFit(const CharucoTarget& target, const Placeme
 
 }  // namespace
 
-std::vector<PlacedCorner> PlaceCornersBySquares(
+SquaresPlacement PlaceCornersBySquares(
     const CharucoTarget& target, const cv::Mat& gray,
     const std::vector<std::vector<cv::Point2f>>& quads, const std::vector<int>& marker_ids,
     const std::vector<std::vector<cv::Point2f>>& marker_corners) {
-  std::vector<PlacedCorner> placed;
+  SquaresPlacement placed;
   const std::vector<Quad> clean = CleanQuads(quads);
   const auto lattice = JoinSquares(clean, FindTouches(clean));
   if (!lattice) return placed;
@@ -382,6 +381,7 @@ std::vector<PlacedCorner> PlaceCornersBySquares(
       second_score = std::max(second_score, *score);
     }
   }
+  placed.correlation = best_score;
   if (!best || best_score < kMinCorrelation || best_score - second_score < kMinLead) return placed;
 
   const double L = target.square_size_m();
@@ -392,7 +392,7 @@ std::vector<PlacedCorner> PlaceCornersBySquares(
     if (it == best->points.end()) continue;
     const auto H = LocalHomography(*best, L, point.p_target.head<2>());
     if (!H) continue;
-    placed.push_back({point.id, it->second, *H});
+    placed.corners.push_back({point.id, it->second, *H});
   }
   return placed;
 }

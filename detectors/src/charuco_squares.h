@@ -31,10 +31,21 @@ struct PlacedCorner {
 /// one under which the image's grey levels at the markers' bits follow the
 /// print clearly best numbers the corners. Markers already decoded
 /// (`marker_ids`, `marker_corners`) must lie where that placement puts them.
-/// Empty when no placement stands out.
-std::vector<PlacedCorner> PlaceCornersBySquares(
-    const CharucoTarget& target, const cv::Mat& gray,
-    const std::vector<std::vector<cv::Point2f>>& quads, const std::vector<int>& marker_ids,
-    const std::vector<std::vector<cv::Point2f>>& marker_corners);
+/// How far ahead of any other the best placement's correlation must be; and
+/// the placement on the declared board ahead of those on the other layouts a
+/// print may have (internal::OtherLayouts).
+constexpr double kMinLead = 0.15;
+
+struct SquaresPlacement {
+  /// Empty when no placement stands out.
+  std::vector<PlacedCorner> corners;
+  /// The best placement's correlation with the print; -1 without a lattice
+  /// or a placement.
+  double correlation = -1;
+};
+SquaresPlacement PlaceCornersBySquares(const CharucoTarget& target, const cv::Mat& gray,
+                                       const std::vector<std::vector<cv::Point2f>>& quads,
+                                       const std::vector<int>& marker_ids,
+                                       const std::vector<std::vector<cv::Point2f>>& marker_corners);
 
 }  // namespace handeye::internal

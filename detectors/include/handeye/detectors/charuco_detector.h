@@ -99,14 +99,6 @@ class CharucoDetector : public Detector {
       const cv::Mat& gray, int id, const Eigen::Matrix3d& H, const Eigen::Vector2d& guess,
       const std::vector<Eigen::Vector2d>& board_xy,
       const std::vector<Eigen::Vector2d>& image_uv) const;
-  /// Adds to `found` (ids, pixels) the corners the black squares among
-  /// OpenCV's rejected `candidates` number (internal::PlaceCornersBySquares),
-  /// given the markers decoded.
-  void AddCornersBySquares(const cv::Mat& gray,
-                           const std::vector<std::vector<cv::Point2f>>& candidates,
-                           const std::vector<int>& marker_ids,
-                           const std::vector<std::vector<cv::Point2f>>& marker_corners,
-                           std::vector<std::pair<int, Eigen::Vector2d>>* found) const;
   /// Drops from `found`, worst first, each corner farther from where the
   /// corners found around it put it than the homography tolerance: a
   /// corner refined to the wrong junction, whichever way it was found.
