@@ -80,8 +80,8 @@ std::vector<Quad> CleanQuads(const std::vector<std::vector<cv::Point2f>>& quads)
   return clean;
 }
 
-/// Where two squares touch: corner `corner` of one square and `other_corner`
-/// of square `other`.
+/// Where a square touches another at one of its corners (the index of the
+/// corner holding it): the other square, its corner there, and the gap.
 struct Touch {
   int other = -1;
   int other_corner = -1;
