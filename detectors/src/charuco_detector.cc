@@ -74,6 +74,24 @@ constexpr double kMaxWindowPx = 30.0;
 /// against other layouts than the declared one (OtherLayouts): fewer fit
 /// any layout too easily.
 constexpr std::size_t kMinMarkersToJudgeLayout = 6;
+/// Another layout explains the black squares better where it leaves at
+/// least this many fewer of them off the board and its correlation with the
+/// print is no more than kMisfitTieCorrelation below the declared one's.
+constexpr int kMisfitLead = 2;
+constexpr double kMisfitTieCorrelation = 0.05;
+
+/// True when the black squares fit placement `a` (on one layout) clearly
+/// better than `b` (on another): the markers' grey levels follow it
+/// internal::kMinLead better, or as well with kMisfitLead fewer squares off
+/// the board. An old-style print of an even number of rows is today's board
+/// shifted by a square (its markers too, but for one per two rows), so the
+/// grey levels hardly tell the two apart; the column of squares the shift
+/// leaves off the board does.
+bool ClearlyAhead(const internal::SquaresPlacement& a, const internal::SquaresPlacement& b) {
+  return a.correlation >= b.correlation + internal::kMinLead ||
+         (a.misfits + kMisfitLead <= b.misfits &&
+          a.correlation >= b.correlation - kMisfitTieCorrelation);
+}
 /// Pixels within this distance of a marker's outline (blur and the gradient
 /// stencil) are left out of a corner's refinement.
 constexpr double kMarkerGuardPx = 2.0;
@@ -503,8 +521,8 @@ std::optional<Detection> CharucoDetector::Find(const cv::Mat& gray,
   }
   // Markers too small to decode at this tilt: the black squares number the
   // corners. Where too few markers decoded to tell the print's layout
-  // (LayoutMismatch), the squares tell it too: a print the markers' grey
-  // levels say is laid out otherwise is no view of the declared board.
+  // (LayoutMismatch), the squares tell it too: a print the squares say is
+  // laid out otherwise is no view of the declared board.
   {
     const auto declared =
         internal::PlaceCornersBySquares(*target_, gray, candidates, kept_ids, kept_corners);
@@ -512,12 +530,11 @@ std::optional<Detection> CharucoDetector::Find(const cv::Mat& gray,
     for (const auto& [layout, advice] : cv_->other_layouts) {
       const auto other =
           internal::PlaceCornersBySquares(*layout, gray, candidates, kept_ids, kept_corners);
-      if (!other.corners.empty() &&
-          other.correlation >= declared.correlation + internal::kMinLead) {
+      if (!other.corners.empty() && ClearlyAhead(other, declared)) {
         if (mismatch) *mismatch = advice;
         return std::nullopt;
       }
-      if (other.correlation > declared.correlation - internal::kMinLead) declared_leads = false;
+      if (!ClearlyAhead(declared, other)) declared_leads = false;
     }
     if (declared_leads && found.size() < target_->Points().size())
       AddPlacedCorners(*target_, declared.corners, refine, &found);

@@ -193,6 +193,7 @@ struct Placement {
   int turn = 0;  ///< quarter turns
   Eigen::Vector2i shift = Eigen::Vector2i::Zero();
   std::map<Point, Eigen::Vector2d> points;
+  int misfits = 0;  ///< squares of the lattice that land on no black square
 
   Eigen::Vector2i Turn(const Point& p) const {
     const Eigen::Vector2i q(p.first, p.second);
@@ -240,6 +241,7 @@ std::vector<Placement> Placements(const CharucoTarget& target, const Lattice& la
         int misfits = 0;
         for (const auto& m : low) misfits += black(m + p.shift) ? 0 : 1;
         if (misfits > allowed_misfits) continue;
+        p.misfits = misfits;
         std::map<Point, std::vector<Eigen::Vector2d>> seen;
         for (int k = 0; k < squares; ++k) {
           if (!black(low[k] + p.shift)) continue;
@@ -434,6 +436,7 @@ SquaresPlacement PlaceCornersBySquares(
     }
   }
   placed.correlation = best_score;
+  if (best) placed.misfits = best->misfits;
   if (!best || best_score < kMinCorrelation || best_score - second_score < kMinLead) return placed;
 
   const double L = target.square_size_m();

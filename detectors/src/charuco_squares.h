@@ -42,6 +42,9 @@ struct SquaresPlacement {
   /// The best placement's correlation with the print; -1 without a lattice
   /// or a placement.
   double correlation = -1;
+  /// Squares of the lattice the best placement puts on no black square of
+  /// the board (clutter joined in, or a print whose squares lie otherwise).
+  int misfits = 0;
 };
 SquaresPlacement PlaceCornersBySquares(const CharucoTarget& target, const cv::Mat& gray,
                                        const std::vector<std::vector<cv::Point2f>>& quads,
