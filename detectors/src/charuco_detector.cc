@@ -92,6 +92,24 @@ bool ClearlyAhead(const internal::SquaresPlacement& a, const internal::SquaresPl
          (a.misfits + kMisfitLead <= b.misfits &&
           a.correlation >= b.correlation - kMisfitTieCorrelation);
 }
+/// A square of the board at `xy` (metres) in the image under `H`: its two
+/// sides as columns, and the smaller singular value, its extent along its
+/// most foreshortened direction (pixels).
+std::pair<Eigen::Matrix2d, double> SquareInImage(const Eigen::Matrix3d& H,
+                                                 const Eigen::Vector2d& xy, double L) {
+  const Eigen::Vector2d at = internal::ApplyHomography(H, xy);
+  Eigen::Matrix2d square;
+  square.col(0) = internal::ApplyHomography(H, xy + Eigen::Vector2d(L, 0)) - at;
+  square.col(1) = internal::ApplyHomography(H, xy + Eigen::Vector2d(0, L)) - at;
+  return {square, Eigen::JacobiSVD<Eigen::Matrix2d>(square).singularValues()(1)};
+}
+
+/// How far a corner may lie from its prediction where the square is
+/// `square_px` across (CharucoDetector::Options).
+double HomographyTolerancePx(const CharucoDetector::Options& options, double square_px) {
+  return std::max(options.min_homography_tolerance_px, options.homography_tolerance * square_px);
+}
+
 /// Pixels within this distance of a marker's outline (blur and the gradient
 /// stencil) are left out of a corner's refinement.
 constexpr double kMarkerGuardPx = 2.0;
@@ -342,14 +360,10 @@ std::variant<Eigen::Vector2d, const char*> CharucoDetector::RefineCorner(
   // A square's extent in the image along its most foreshortened direction
   // (the smaller singular value of the local map): refinement windows and
   // tolerances must fit that way too.
-  Eigen::Matrix2d square_image;
-  square_image.col(0) = internal::ApplyHomography(H, xy + Eigen::Vector2d(L, 0)) - predicted;
-  square_image.col(1) = internal::ApplyHomography(H, xy + Eigen::Vector2d(0, L)) - predicted;
-  const double square_px = Eigen::JacobiSVD<Eigen::Matrix2d>(square_image).singularValues()(1);
+  const auto [square_image, square_px] = SquareInImage(H, xy, L);
   if (!(square_px >= kMinSquarePx && square_px < std::max(gray.cols, gray.rows)))
     return "refinement";
-  const double tolerance_px =
-      std::max(options_.min_homography_tolerance_px, options_.homography_tolerance * square_px);
+  const double tolerance_px = HomographyTolerancePx(options_, square_px);
   for (std::size_t k = 0; k < board_xy.size(); ++k)
     if ((internal::ApplyHomography(H, board_xy[k]) - image_uv[k]).norm() > tolerance_px)
       return "homography";
@@ -396,14 +410,8 @@ void CharucoDetector::DropCornersOffTheirNeighbours(
       if (!H) continue;
       const Eigen::Vector2d xy = target_->FindPoint(id)->p_target.head<2>();
       const Eigen::Vector2d predicted = internal::ApplyHomography(*H, xy);
-      Eigen::Matrix2d square_image;
-      const double L = target_->square_size_m();
-      square_image.col(0) = internal::ApplyHomography(*H, xy + Eigen::Vector2d(L, 0)) - predicted;
-      square_image.col(1) = internal::ApplyHomography(*H, xy + Eigen::Vector2d(0, L)) - predicted;
-      const double square_px = Eigen::JacobiSVD<Eigen::Matrix2d>(square_image).singularValues()(1);
-      const double tolerance_px =
-          std::max(options_.min_homography_tolerance_px, options_.homography_tolerance * square_px);
-      const double excess = (uv - predicted).norm() / tolerance_px;
+      const double square_px = SquareInImage(*H, xy, target_->square_size_m()).second;
+      const double excess = (uv - predicted).norm() / HomographyTolerancePx(options_, square_px);
       if (excess > worst_excess) worst_excess = excess, worst = id;
     }
     if (worst < 0) break;

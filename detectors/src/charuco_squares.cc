@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "charuco_squares.h"
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/LU>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -266,10 +264,10 @@ std::vector<Placement> Placements(const CharucoTarget& target, const Lattice& la
 }
 
 /// The homography (board metres to pixels) of the points of `placement`
-/// within kLocalSquares of `centre` (board metres): least squares over
-/// points centred and scaled on both sides, through the 9x9 normal equations
-/// (every placement of every view is scored with one per marker; an SVD of
-/// the full system cost 15 % of the detection of a view with no board).
+/// within kLocalSquares of `centre` (board metres), by FitHomographyFast:
+/// every placement of every view is scored with one per marker, and an SVD
+/// of the whole system (FitHomography) cost 15 % of the detection of a view
+/// with no board.
 std::optional<Eigen::Matrix3d> LocalHomography(const Placement& placement, double L,
                                                const Eigen::Vector2d& centre) {
   std::vector<Eigen::Vector2d> board, image;
@@ -279,61 +277,7 @@ std::optional<Eigen::Matrix3d> LocalHomography(const Placement& placement, doubl
     board.push_back(xy);
     image.push_back(uv);
   }
-  if (board.size() < 4) return std::nullopt;
-  const auto normaliser = [](const std::vector<Eigen::Vector2d>& points) {
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    for (const auto& p : points) mean += p / static_cast<double>(points.size());
-    double spread = 0;
-    for (const auto& p : points) spread += (p - mean).norm() / static_cast<double>(points.size());
-    Eigen::Matrix3d T = Eigen::Matrix3d::Identity();
-    const double scale = spread > 0 ? std::sqrt(2.0) / spread : 1.0;
-    T(0, 0) = T(1, 1) = scale;
-    T.block<2, 1>(0, 2) = -scale * mean;
-    return T;
-  };
-  const Eigen::Matrix3d Tb = normaliser(board), Ti = normaliser(image);
-  Eigen::Matrix<double, 9, 9> normal = Eigen::Matrix<double, 9, 9>::Zero();
-  for (std::size_t k = 0; k < board.size(); ++k) {
-    const Eigen::Vector3d p = Tb * board[k].homogeneous(), q = Ti * image[k].homogeneous();
-    Eigen::Matrix<double, 9, 1> rx, ry;
-    rx << p.x(), p.y(), 1, 0, 0, 0, -q.x() * p.x(), -q.x() * p.y(), -q.x();
-    ry << 0, 0, 0, p.x(), p.y(), 1, -q.y() * p.x(), -q.y() * p.y(), -q.y();
-    normal += rx * rx.transpose() + ry * ry.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 9, 9>> eigen(normal);
-  // A second vanishing eigenvalue: the points do not fix H.
-  if (!(eigen.eigenvalues()(1) > 1e-12 * eigen.eigenvalues()(8))) return std::nullopt;
-  const Eigen::Matrix<double, 9, 1> h = eigen.eigenvectors().col(0);
-  Eigen::Matrix3d Hn;
-  Hn << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), h(8);
-  const Eigen::Matrix3d H = Ti.inverse() * Hn * Tb;
-  if (!H.allFinite() || std::abs(H(2, 2)) < 1e-15) return std::nullopt;
-  return H / H(2, 2);
-}
-
-/// The homography (board metres to pixels) of board square (a, b) from its
-/// four corners under `placement`: a direct solve, fast enough to score every
-/// placement; nullopt when a corner is not shown or the four are degenerate.
-std::optional<Eigen::Matrix3d> SquareHomography(const Placement& placement, double L, int a,
-                                                int b) {
-  Eigen::Matrix<double, 8, 8> A;
-  Eigen::Matrix<double, 8, 1> rhs;
-  for (int k = 0; k < 4; ++k) {
-    const Point q(a + kCornerOffset[k].x(), b + kCornerOffset[k].y());
-    const auto it = placement.points.find(q);
-    if (it == placement.points.end()) return std::nullopt;
-    const double x = q.first * L, y = q.second * L, u = it->second.x(), v = it->second.y();
-    A.row(2 * k) << x, y, 1, 0, 0, 0, -u * x, -u * y;
-    A.row(2 * k + 1) << 0, 0, 0, x, y, 1, -v * x, -v * y;
-    rhs(2 * k) = u;
-    rhs(2 * k + 1) = v;
-  }
-  const Eigen::FullPivLU<Eigen::Matrix<double, 8, 8>> lu(A);
-  if (!lu.isInvertible()) return std::nullopt;
-  const Eigen::Matrix<double, 8, 1> h = lu.solve(rhs);
-  Eigen::Matrix3d H;
-  H << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), 1.0;
-  return H;
+  return FitHomographyFast(board, image);
 }
 
 double Bilinear(const cv::Mat& gray, const Eigen::Vector2d& uv) {
@@ -398,7 +342,14 @@ std::pair<int, int> DecodedMarkersFit(const CharucoTarget& target, const Placeme
     const Eigen::Vector2d centre = (corners[0].head<2>() + corners[2].head<2>()) / 2;
     const int a = static_cast<int>(std::floor(centre.x() / L));
     const int b = static_cast<int>(std::floor(centre.y() / L));
-    const auto H = SquareHomography(placement, L, a, b);
+    std::vector<Eigen::Vector2d> board, image;
+    for (const auto& o : kCornerOffset) {
+      const auto it = placement.points.find(Point(a + o.x(), b + o.y()));
+      if (it == placement.points.end()) break;
+      board.push_back(Eigen::Vector2d(a + o.x(), b + o.y()) * L);
+      image.push_back(it->second);
+    }
+    const auto H = FitHomography(board, image);
     if (!H) continue;
     Eigen::Vector2d seen = Eigen::Vector2d::Zero();
     for (const auto& c : marker_corners[i]) seen += Eigen::Vector2d(c.x, c.y) / 4.0;

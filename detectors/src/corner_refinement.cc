@@ -222,6 +222,33 @@ Eigen::Matrix3d Normaliser(const std::vector<Eigen::Vector2d>& points) {
   return T;
 }
 
+/// The DLT of a homography from `from` to `to`, both normalised (Normaliser):
+/// two rows per point pair, each handed to `row`.
+template <typename Row>
+void ForEachDltRow(const std::vector<Eigen::Vector2d>& from, const std::vector<Eigen::Vector2d>& to,
+                   const Eigen::Matrix3d& Tf, const Eigen::Matrix3d& Tt, const Row& row) {
+  Eigen::Matrix<double, 9, 1> rx, ry;
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    const Eigen::Vector3d p = Tf * from[i].homogeneous();
+    const Eigen::Vector3d q = Tt * to[i].homogeneous();
+    rx << p.x(), p.y(), 1, 0, 0, 0, -q.x() * p.x(), -q.x() * p.y(), -q.x();
+    ry << 0, 0, 0, p.x(), p.y(), 1, -q.y() * p.x(), -q.y() * p.y(), -q.y();
+    row(2 * i, rx);
+    row(2 * i + 1, ry);
+  }
+}
+
+/// The homography of the normalised solution `h` (row-major), taken back
+/// through the normalisers; nullopt when it is not finite or maps to infinity.
+std::optional<Eigen::Matrix3d> Denormalised(const Eigen::Matrix<double, 9, 1>& h,
+                                            const Eigen::Matrix3d& Tf, const Eigen::Matrix3d& Tt) {
+  Eigen::Matrix3d Hn;
+  Hn << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), h(8);
+  const Eigen::Matrix3d H = Tt.inverse() * Hn * Tf;
+  if (!H.allFinite() || std::abs(H(2, 2)) < 1e-15) return std::nullopt;
+  return H / H(2, 2);
+}
+
 }  // namespace
 
 std::optional<Eigen::Matrix3d> FitHomography(const std::vector<Eigen::Vector2d>& from,
@@ -230,22 +257,29 @@ std::optional<Eigen::Matrix3d> FitHomography(const std::vector<Eigen::Vector2d>&
   if (n < 4 || to.size() != n) return std::nullopt;
   const Eigen::Matrix3d Tf = Normaliser(from), Tt = Normaliser(to);
   Eigen::MatrixXd M(2 * n, 9);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d p = Tf * from[i].homogeneous();
-    const Eigen::Vector3d q = Tt * to[i].homogeneous();
-    M.row(2 * i) << p.x(), p.y(), 1, 0, 0, 0, -q.x() * p.x(), -q.x() * p.y(), -q.x();
-    M.row(2 * i + 1) << 0, 0, 0, p.x(), p.y(), 1, -q.y() * p.x(), -q.y() * p.y(), -q.y();
-  }
+  ForEachDltRow(from, to, Tf, Tt, [&M](std::size_t r, const Eigen::Matrix<double, 9, 1>& row) {
+    M.row(static_cast<Eigen::Index>(r)) = row.transpose();
+  });
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeFullV);
   const Eigen::VectorXd s = svd.singularValues();
   // A second vanishing singular value: the points do not fix H (e.g. three collinear).
   if (!(s(7) > 1e-9 * s(0))) return std::nullopt;
-  const Eigen::VectorXd h = svd.matrixV().col(8);
-  Eigen::Matrix3d Hn;
-  Hn << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), h(8);
-  const Eigen::Matrix3d H = Tt.inverse() * Hn * Tf;
-  if (!H.allFinite() || std::abs(H(2, 2)) < 1e-15) return std::nullopt;
-  return H / H(2, 2);
+  return Denormalised(svd.matrixV().col(8), Tf, Tt);
+}
+
+std::optional<Eigen::Matrix3d> FitHomographyFast(const std::vector<Eigen::Vector2d>& from,
+                                                 const std::vector<Eigen::Vector2d>& to) {
+  const std::size_t n = from.size();
+  if (n < 4 || to.size() != n) return std::nullopt;
+  const Eigen::Matrix3d Tf = Normaliser(from), Tt = Normaliser(to);
+  Eigen::Matrix<double, 9, 9> normal = Eigen::Matrix<double, 9, 9>::Zero();
+  ForEachDltRow(from, to, Tf, Tt, [&normal](std::size_t, const Eigen::Matrix<double, 9, 1>& row) {
+    normal += row * row.transpose();
+  });
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 9, 9>> eigen(normal);
+  // A second vanishing eigenvalue: the points do not fix H.
+  if (!(eigen.eigenvalues()(1) > 1e-12 * eigen.eigenvalues()(8))) return std::nullopt;
+  return Denormalised(eigen.eigenvectors().col(0), Tf, Tt);
 }
 
 }  // namespace handeye::internal

@@ -82,6 +82,13 @@ bool SpansPlane(const std::vector<Eigen::Vector2d>& points, double min_spread_m)
 /// DLT; nullopt when degenerate.
 std::optional<Eigen::Matrix3d> FitHomography(const std::vector<Eigen::Vector2d>& from,
                                              const std::vector<Eigen::Vector2d>& to);
+/// The same least-squares solution through the 9×9 normal equations of the
+/// normalised DLT: several times faster on a few points, for scoring many
+/// candidates (internal::PlaceCornersBySquares); points that do not fix H
+/// are refused more readily (a second eigenvalue under 1e-12 of the largest,
+/// a singular value ratio of 1e-6).
+std::optional<Eigen::Matrix3d> FitHomographyFast(const std::vector<Eigen::Vector2d>& from,
+                                                 const std::vector<Eigen::Vector2d>& to);
 
 /// H applied to a point (with the perspective division).
 inline Eigen::Vector2d ApplyHomography(const Eigen::Matrix3d& H, const Eigen::Vector2d& p) {
