@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "aprilgrid_alignment.h"
 #include "corner_refinement.h"
 #include "handeye/core/error.h"
 
@@ -57,12 +58,6 @@ constexpr double kMinSidePx = 15.0;
 /// Gammas of the brightenings applied to the library's copies of the image,
 /// one detection pass each (see DetectRawTags).
 constexpr double kGammas[] = {0.25, 0.1};
-
-/// The first stage (see DetectRawTags) runs on images at least this large
-/// (shorter side, px): smaller ones cost little to search whole.
-constexpr int kMinFirstStageSide = 480;
-/// ... and looks for quads at 1/2 resolution.
-constexpr float kFirstStageDecimation = 2.0f;
 
 }  // namespace
 
@@ -235,24 +230,6 @@ std::vector<AprilGridDetector::RawTag> AprilGridDetector::DetectRawTags(const cv
     cv::LUT(gray, lut, brightened);
     return brightened;
   };
-  // The first stage: quads looked for at half resolution (the library's
-  // quad_decimate; it still decodes at full resolution). Without one tag of
-  // the grid there, the image is given up before the two full passes.
-  if (options_.first_stage && std::min(gray.cols, gray.rows) >= kMinFirstStageSide) {
-    cv::Mat brightened = brighten(kGammas[0]);
-    image_u8_t image{brightened.cols, brightened.rows,
-                     static_cast<std::int32_t>(brightened.step[0]),
-                     brightened.ptr<std::uint8_t>(0)};
-    engine->detector->quad_decimate = kFirstStageDecimation;
-    zarray_t* detections = apriltag_detector_detect(engine->detector, &image);
-    engine->detector->quad_decimate = 1.0f;
-    const bool any = zarray_size(detections) > 0;
-    apriltag_detections_destroy(detections);
-    if (!any) {
-      Return(std::move(engine));
-      return {};
-    }
-  }
   std::vector<RawTag> tags;
   for (const double gamma : kGammas) {
     cv::Mat brightened = brighten(gamma);
@@ -282,8 +259,11 @@ std::vector<AprilGridDetector::RawTag> AprilGridDetector::DetectRawTags(const cv
       if (same == tags.end()) tags.push_back(tag);
     }
     apriltag_detections_destroy(detections);
-    // Every tag of the grid found: no need for another pass.
+    // Every tag of the grid found: no need for another pass. No tag of the
+    // grid in the first: most likely an image without the grid (Detect
+    // still looks for its outline).
     if (static_cast<int>(tags.size()) >= target_->NumTags()) break;
+    if (options_.first_stage && tags.empty()) break;
   }
   Return(std::move(engine));
   return tags;
@@ -338,6 +318,25 @@ std::optional<Detection> AprilGridDetector::Detect(const cv::Mat& gray) const {
     for (int k = 0; k < 4; ++k) found.emplace_back(ids[k], refined[k]);
   }
 
+  // Tags too small to fit, or not decoded at all: the print lined up with
+  // the image, from the tags that did decode or from the sheet's outline,
+  // places every tag whose grey levels follow it (internal::AlignGrid).
+  if (static_cast<int>(found.size()) < 4 * target_->NumTags()) {
+    std::vector<internal::SeedTag> seeds;
+    for (const RawTag& tag : tags)
+      if (tag.id >= 0 && tag.id < target_->NumTags() && copies[tag.id] == 1)
+        seeds.push_back({tag.id, tag.corners_px});
+    if (const auto alignment = internal::AlignGrid(*target_, gray, seeds)) {
+      std::vector<bool> have(static_cast<std::size_t>(4 * target_->NumTags()), false);
+      for (const auto& point : found) have[static_cast<std::size_t>(point.first)] = true;
+      for (const int tag : alignment->tags)
+        for (const int id : target_->TagCornerIds(tag)) {
+          const Eigen::Vector2d uv = internal::ApplyHomography(
+              alignment->H_image_target, target_->FindPoint(id)->p_target.head<2>());
+          if (!have[static_cast<std::size_t>(id)] && inside(uv)) found.emplace_back(id, uv);
+        }
+    }
+  }
   if (static_cast<int>(found.size()) < options_.min_corners) return std::nullopt;
   std::sort(found.begin(), found.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });

@@ -280,16 +280,6 @@ std::optional<Eigen::Matrix3d> LocalHomography(const Placement& placement, doubl
   return FitHomographyFast(board, image);
 }
 
-double Bilinear(const cv::Mat& gray, const Eigen::Vector2d& uv) {
-  const int x = static_cast<int>(std::floor(uv.x())), y = static_cast<int>(std::floor(uv.y()));
-  const double fx = uv.x() - x, fy = uv.y() - y;
-  const auto at = [&gray](int r, int c) {
-    return static_cast<double>(gray.at<std::uint8_t>(r, c));
-  };
-  return (1 - fy) * ((1 - fx) * at(y, x) + fx * at(y, x + 1)) +
-         fy * ((1 - fx) * at(y + 1, x) + fx * at(y + 1, x + 1));
-}
-
 /// Correlation of the image's grey levels at the centres of the markers'
 /// bits with the print's, under `placement`; nullopt with too few bits seen.
 std::optional<double> PrintCorrelation(const CharucoTarget& target, const cv::Mat& gray,
@@ -309,23 +299,13 @@ std::optional<double> PrintCorrelation(const CharucoTarget& target, const cv::Ma
         const Eigen::Vector2d uv = ApplyHomography(*H, xy);
         if (!(uv.x() >= 0 && uv.y() >= 0 && uv.x() < gray.cols - 1 && uv.y() < gray.rows - 1))
           continue;
-        seen.push_back(Bilinear(gray, uv));
+        seen.push_back(Bilinear(gray, uv.x(), uv.y()));
         printed.push_back(target.Albedo(xy.x(), xy.y()));
       }
   }
   if (seen.size() < static_cast<std::size_t>(kMinBitsPerPlacement * bits * bits))
     return std::nullopt;
-  const auto n = static_cast<double>(seen.size());
-  double ms = 0, mp = 0;
-  for (std::size_t k = 0; k < seen.size(); ++k) ms += seen[k] / n, mp += printed[k] / n;
-  double ss = 0, pp = 0, sp = 0;
-  for (std::size_t k = 0; k < seen.size(); ++k) {
-    ss += (seen[k] - ms) * (seen[k] - ms);
-    pp += (printed[k] - mp) * (printed[k] - mp);
-    sp += (seen[k] - ms) * (printed[k] - mp);
-  }
-  if (!(ss > 0 && pp > 0)) return std::nullopt;
-  return sp / std::sqrt(ss * pp);
+  return Pearson(seen, printed);
 }
 
 /// The decoded markers whose square's four corners `placement` shows: how

@@ -15,6 +15,7 @@
 
 #include "checkerboard_grid.h"
 #include "checkerboard_search.h"
+#include "corner_refinement.h"
 
 namespace handeye {
 namespace {

@@ -13,18 +13,6 @@
 
 namespace handeye::internal {
 
-/// Grey level at a sub-pixel position (bilinear; clamped at the border).
-double Bilinear(const cv::Mat& gray, double x, double y) {
-  x = std::clamp(x, 0.0, gray.cols - 1.001);
-  y = std::clamp(y, 0.0, gray.rows - 1.001);
-  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-  const double fx = x - x0, fy = y - y0;
-  const auto* r0 = gray.ptr<std::uint8_t>(y0);
-  const auto* r1 = gray.ptr<std::uint8_t>(y0 + 1);
-  return (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) +
-         fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
-}
-
 /// True when the image around `c` looks like a checkerboard X-junction: on a
 /// ring inside the four squares it is point-symmetric (two dark sectors
 /// opposite each other), so its first angular harmonic is small against the

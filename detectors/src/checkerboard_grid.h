@@ -17,9 +17,6 @@ struct Grid {
   cv::Point2d At(int a, int b) const { return px[static_cast<size_t>(b) * cols + a]; }
 };
 
-/// Grey level at a sub-pixel position (bilinear; clamped at the border).
-double Bilinear(const cv::Mat& gray, double x, double y);
-
 /// True when the image around `c` looks like a checkerboard X-junction on a
 /// ring of `radius` px (see the definition).
 bool LooksLikeXJunction(const cv::Mat& gray, const cv::Point2d& c, double radius);

@@ -282,4 +282,29 @@ std::optional<Eigen::Matrix3d> FitHomographyFast(const std::vector<Eigen::Vector
   return Denormalised(eigen.eigenvectors().col(0), Tf, Tt);
 }
 
+double Bilinear(const cv::Mat& gray, double x, double y) {
+  x = std::clamp(x, 0.0, gray.cols - 1.001);
+  y = std::clamp(y, 0.0, gray.rows - 1.001);
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const double fx = x - x0, fy = y - y0;
+  const auto* r0 = gray.ptr<std::uint8_t>(y0);
+  const auto* r1 = gray.ptr<std::uint8_t>(y0 + 1);
+  return (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) +
+         fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
+}
+
+std::optional<double> Pearson(const std::vector<double>& a, const std::vector<double>& b) {
+  const auto count = static_cast<double>(a.size());
+  double ma = 0, mb = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) ma += a[k] / count, mb += b[k] / count;
+  double aa = 0, bb = 0, ab = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    aa += (a[k] - ma) * (a[k] - ma);
+    bb += (b[k] - mb) * (b[k] - mb);
+    ab += (a[k] - ma) * (b[k] - mb);
+  }
+  if (!(aa > 0 && bb > 0)) return std::nullopt;
+  return ab / std::sqrt(aa * bb);
+}
+
 }  // namespace handeye::internal

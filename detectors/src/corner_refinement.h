@@ -90,6 +90,14 @@ std::optional<Eigen::Matrix3d> FitHomography(const std::vector<Eigen::Vector2d>&
 std::optional<Eigen::Matrix3d> FitHomographyFast(const std::vector<Eigen::Vector2d>& from,
                                                  const std::vector<Eigen::Vector2d>& to);
 
+/// Grey level of `gray` (8-bit) at a sub-pixel position (bilinear; clamped
+/// at the border).
+double Bilinear(const cv::Mat& gray, double x, double y);
+
+/// Pearson correlation of two samples of one length; nullopt when either
+/// is constant.
+std::optional<double> Pearson(const std::vector<double>& a, const std::vector<double>& b);
+
 /// H applied to a point (with the perspective division).
 inline Eigen::Vector2d ApplyHomography(const Eigen::Matrix3d& H, const Eigen::Vector2d& p) {
   const Eigen::Vector3d q = H * p.homogeneous();

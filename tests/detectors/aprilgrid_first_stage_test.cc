@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// The AprilGrid detector's first stage: one pass that looks for quads at half
-// resolution decides whether the two full-resolution passes run. Views of
-// the grid must come out exactly as without it; images without the grid
-// (rendered clutter) must stop there.
+// The AprilGrid detector's first stage: the library's second pass runs only
+// when its first finds a tag of the grid. Views of the grid must come out
+// exactly as with both passes always; images without the grid (rendered
+// clutter) must give nothing.
 #include <catch2/catch.hpp>
 #include <random>
 
@@ -59,7 +59,7 @@ TEST_CASE("aprilgrid first stage: the same detections, small and oblique tags in
   CHECK(detected >= 12);
 }
 
-TEST_CASE("aprilgrid first stage: rendered clutter without the grid stops there",
+TEST_CASE("aprilgrid first stage: rendered clutter without the grid gives nothing",
           "[aprilgrid][cascade]") {
   const auto grid = Grid();
   const AprilGridDetector detector(grid);

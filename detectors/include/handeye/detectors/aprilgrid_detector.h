@@ -32,7 +32,13 @@ std::shared_ptr<const AprilGridTarget> MakeAprilGridTarget(const TargetSpec& spe
 /// image border (their edges may be cut off). Corners are moved from the
 /// library's pixel convention (pixel centres at +0.5) to SPEC §2's, then
 /// refined to the X junction each tag corner makes with Kalibr's black corner
-/// square. A view needs `min_corners` corners, not all on one line.
+/// square. Tags too small for that (under 15 px a side) or not decoded at
+/// all (seen obliquely from afar) are placed by the print as a whole: lined
+/// up with the image (ECC) from the decoded tags or, with none, from the
+/// sheet's bright outline in each of its turns; a tag is placed when the
+/// grid's grey levels follow the print and its own follow its code (one
+/// covered or out of view is not). A view needs `min_corners` corners, not
+/// all on one line.
 class AprilGridDetector : public Detector {
  public:
   struct Options {
@@ -43,10 +49,9 @@ class AprilGridDetector : public Detector {
     double min_border_px = 4.0;
     /// Bit errors the decoder may correct (tag36h11 codes differ in ≥ 11).
     int max_bits_corrected = 2;
-    /// Give an image of 480 px a side or more up when one pass that looks
-    /// for quads at half resolution finds no tag of the grid, before the
-    /// two full-resolution passes (the cheap first stage for images
-    /// without the grid). Off only to compare against in tests.
+    /// Skip the library's second pass when its first finds no tag of the
+    /// grid (the cheaper stage for images without it). Off only to compare
+    /// against in tests.
     bool first_stage = true;
 
     bool Check(std::string* why) const;

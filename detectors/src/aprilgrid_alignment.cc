@@ -1,0 +1,412 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "aprilgrid_alignment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include "corner_refinement.h"
+
+namespace handeye::internal {
+namespace {
+
+/// Supersamples per template pixel side when rendering the print.
+constexpr int kSupersampling = 4;
+/// Pixels of image kept around the grid for the alignment.
+constexpr int kCropMarginPx = 16;
+/// Outlines tried as the sheet's when no tag decodes, and the size of
+/// its tags they imply (the side of a square of the sheet's area ÷ its
+/// tags, px): beyond it the tags would decode.
+constexpr std::size_t kMaxOutlines = 12;
+constexpr double kMinOutlineTagPx = 6, kMaxOutlineTagPx = 32;
+/// The bright regions: above their neighbourhood's mean by this much.
+constexpr int kThresholdBlockPx = 31, kThresholdOffset = 5;
+/// The pieces of a sheet whose outline is lost: their area (px²), how far
+/// apart they may lie, and how many make a sheet (JoinedPieces).
+constexpr double kMinPieceAreaPx = 60, kMaxPieceAreaPx = 3000;
+constexpr int kPieceReachPx = 3, kMinPieces = 3;
+/// What an outline must hold to be tried (LooksLikeGrid).
+constexpr double kMinDarkFraction = 0.3, kMaxDarkFraction = 0.65, kMinGreySigma = 15;
+/// The short, smoothed alignment of every outline's turns, and the
+/// correlation after it for a turn to be aligned in full.
+constexpr int kCoarseIterations = 10;
+constexpr double kMinCoarseCorrelation = 0.05;
+
+/// The print rendered about as large as it appears: template pixel (u, v)
+/// shows board point (x0 + u / s, y0 − v / s), x0, y0 the top-left of
+/// the sheet (Target::Extent).
+struct Template {
+  cv::Mat image;                      ///< CV_8U
+  Eigen::Matrix3d S_template_target;  ///< board metres → template pixels
+};
+
+Template RenderTemplate(const AprilGridTarget& target, double px_per_m) {
+  const Eigen::AlignedBox2d e = target.Extent();
+  const double s = px_per_m;
+  Template t;
+  t.S_template_target << s, 0, -s * e.min().x(), 0, -s, s * e.max().y(), 0, 0, 1;
+  const int w = static_cast<int>(std::ceil(s * e.sizes().x())),
+            h = static_cast<int>(std::ceil(s * e.sizes().y()));
+  t.image.create(h, w, CV_8U);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      double sum = 0;
+      for (int a = 0; a < kSupersampling; ++a)
+        for (int b = 0; b < kSupersampling; ++b) {
+          const double du = (a + 0.5) / kSupersampling - 0.5, dv = (b + 0.5) / kSupersampling - 0.5;
+          sum += target.Albedo(e.min().x() + (u + du) / s, e.max().y() - (v + dv) / s);
+        }
+      t.image.at<std::uint8_t>(v, u) =
+          cv::saturate_cast<std::uint8_t>(255.0 * sum / (kSupersampling * kSupersampling));
+    }
+  return t;
+}
+
+/// The print rendered for the part of `gray` the sheet covers under H, and that part.
+struct Frame {
+  Template print;
+  cv::Rect crop;
+};
+
+std::optional<Frame> FrameFor(const cv::Mat& gray, const AprilGridTarget& target,
+                              const Eigen::Matrix3d& H) {
+  const Eigen::AlignedBox2d e = target.Extent();
+  Eigen::AlignedBox2d seen;
+  for (const auto corner : {Eigen::AlignedBox2d::BottomLeft, Eigen::AlignedBox2d::BottomRight,
+                            Eigen::AlignedBox2d::TopLeft, Eigen::AlignedBox2d::TopRight})
+    seen.extend(ApplyHomography(H, e.corner(corner)));
+  if (!seen.sizes().allFinite() || seen.sizes().maxCoeff() > 4.0 * (gray.cols + gray.rows))
+    return std::nullopt;
+  Frame frame;
+  frame.crop = cv::Rect(static_cast<int>(std::floor(seen.min().x())) - kCropMarginPx,
+                        static_cast<int>(std::floor(seen.min().y())) - kCropMarginPx,
+                        static_cast<int>(std::ceil(seen.sizes().x())) + 2 * kCropMarginPx,
+                        static_cast<int>(std::ceil(seen.sizes().y())) + 2 * kCropMarginPx) &
+               cv::Rect(0, 0, gray.cols, gray.rows);
+  if (frame.crop.width < 8 || frame.crop.height < 8) return std::nullopt;
+  // About one template pixel per image pixel along the sheet's longer side.
+  const double longest = std::max(seen.sizes().x(), seen.sizes().y());
+  frame.print = RenderTemplate(target, std::max(longest, 64.0) / e.sizes().maxCoeff());
+  return frame;
+}
+
+/// H (board → pixels) refined by ECC of the frame's print against its part
+/// of `gray`, both smoothed by a Gaussian of `smoothing` px (1: none).
+std::optional<Eigen::Matrix3d> Align(const cv::Mat& gray, const Frame& frame,
+                                     const Eigen::Matrix3d& H, int smoothing, int iterations) {
+  Eigen::Matrix3d shift = Eigen::Matrix3d::Identity();
+  shift(0, 2) = -frame.crop.x;
+  shift(1, 2) = -frame.crop.y;
+  Eigen::Matrix3d W = shift * H * frame.print.S_template_target.inverse();
+  W /= W(2, 2);
+  cv::Mat warp(3, 3, CV_32F);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) warp.at<float>(r, c) = static_cast<float>(W(r, c));
+  try {
+    cv::findTransformECC(
+        frame.print.image, gray(frame.crop), warp, cv::MOTION_HOMOGRAPHY,
+        cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, iterations, 1e-5),
+        cv::noArray(), smoothing);
+  } catch (const cv::Exception&) {
+    return std::nullopt;  // did not converge
+  }
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) W(r, c) = warp.at<float>(r, c);
+  const Eigen::Matrix3d aligned = shift.inverse() * W * frame.print.S_template_target;
+  if (!aligned.allFinite()) return std::nullopt;
+  return aligned;
+}
+
+/// Appends the image's grey levels and the print's at the centres of tag
+/// `tag`'s cells [lo, hi)² under H (cells count from the tag's top-left in
+/// bits; −1 and n are the gap around a tag of n bits). False, appending
+/// nothing, when a cell falls outside the image.
+bool SampleTag(const AprilGridTarget& target, const cv::Mat& gray, const Eigen::Matrix3d& H,
+               int tag, int lo, int hi, std::vector<double>* seen, std::vector<double>* printed) {
+  const int n = target.family().bits + 2 * target.border_bits();
+  const double size = target.tag_size_m(), pitch = size * (1 + target.tag_spacing()),
+               bit = size / n;
+  const int i = tag % target.tags_x(), j = tag / target.tags_x();
+  std::vector<Eigen::Vector2d> cells, pixels;
+  for (int r = lo; r < hi; ++r)
+    for (int c = lo; c < hi; ++c) {
+      // Tag (i, j) spans x in [i·p, i·p + size], y in [−j·p − size, −j·p].
+      const Eigen::Vector2d xy(i * pitch + (c + 0.5) * bit, -j * pitch - size + (r + 0.5) * bit);
+      const Eigen::Vector2d uv = ApplyHomography(H, xy);
+      if (!(uv.x() >= 0 && uv.y() >= 0 && uv.x() < gray.cols - 1 && uv.y() < gray.rows - 1))
+        return false;
+      cells.push_back(xy);
+      pixels.push_back(uv);
+    }
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    seen->push_back(Bilinear(gray, pixels[k].x(), pixels[k].y()));
+    printed->push_back(target.Albedo(cells[k].x(), cells[k].y()));
+  }
+  return true;
+}
+
+/// Whether tag `tag` is seen where H puts it: the grey levels of its cells
+/// and the gap around them follow the print (its black border against the
+/// white gap stays clear when the data cells blur together), and so do
+/// those of its own cells alone (something in front of the tag, with the
+/// gap around it in view, fails this). nullopt when the tag and its gap are
+/// not all in the image.
+std::optional<bool> TagSeen(const AprilGridTarget& target, const cv::Mat& gray,
+                            const Eigen::Matrix3d& H, int tag) {
+  const int n = target.family().bits + 2 * target.border_bits();
+  std::vector<double> seen, printed;
+  if (!SampleTag(target, gray, H, tag, -1, n + 1, &seen, &printed)) return std::nullopt;
+  const auto with_gap = Pearson(seen, printed);
+  seen.clear();
+  printed.clear();
+  SampleTag(target, gray, H, tag, 0, n, &seen, &printed);
+  const auto own = Pearson(seen, printed);
+  return with_gap && own && *with_gap >= kMinTagCorrelation && *own >= kMinOwnCorrelation;
+}
+
+/// Correlation of the image at the data cells of every tag in the image
+/// under H with the print: what tells the grid's placements apart, as the
+/// borders and gaps fit every turn alike. nullopt with fewer than two tags
+/// in the image.
+std::optional<double> GridCorrelation(const AprilGridTarget& target, const cv::Mat& gray,
+                                      const Eigen::Matrix3d& H) {
+  const int n = target.family().bits + 2 * target.border_bits(), b = target.border_bits();
+  std::vector<double> seen, printed;
+  int tags = 0;
+  for (int tag = 0; tag < target.NumTags(); ++tag)
+    tags += SampleTag(target, gray, H, tag, b, n - b, &seen, &printed);
+  if (tags < 2) return std::nullopt;
+  return Pearson(seen, printed);
+}
+
+/// Whether the inside of `quad` could be an AprilGrid: part bright, part
+/// dark (`bright`: the thresholded image), and not flat. On rendered oblique
+/// views the sheets' outlines held 40-53 % dark pixels at a grey-level σ of
+/// 36-66; 37 of the 48 outlines in 40 of METRIC's images (no grid in them)
+/// fall outside the bounds below.
+bool LooksLikeGrid(const cv::Mat& gray, const cv::Mat& bright, const std::vector<cv::Point>& quad) {
+  const cv::Rect box = cv::boundingRect(quad) & cv::Rect(0, 0, gray.cols, gray.rows);
+  if (box.empty()) return false;
+  cv::Mat inside = cv::Mat::zeros(box.size(), CV_8U);
+  std::vector<cv::Point> local;
+  for (const cv::Point& corner : quad) local.push_back(corner - box.tl());
+  cv::fillConvexPoly(inside, local, 255);
+  const int pixels = cv::countNonZero(inside);
+  if (pixels == 0) return false;
+  const double dark = static_cast<double>(cv::countNonZero((bright(box) == 0) & inside)) / pixels;
+  cv::Scalar mean, sigma;
+  cv::meanStdDev(gray(box), mean, sigma, inside);
+  return dark >= kMinDarkFraction && dark <= kMaxDarkFraction && sigma[0] >= kMinGreySigma;
+}
+
+double ContourHullArea(const std::vector<cv::Point>& contour) {
+  std::vector<cv::Point> hull;
+  cv::convexHull(contour, hull);
+  return cv::contourArea(hull);
+}
+
+/// Small bright regions whose boxes, grown by kPieceReachPx, overlap,
+/// joined (at least kMinPieces each).
+std::vector<std::vector<cv::Point>> JoinedPieces(
+    const std::vector<std::vector<cv::Point>>& contours) {
+  std::vector<const std::vector<cv::Point>*> pieces;
+  std::vector<cv::Rect> reach;
+  for (const auto& contour : contours) {
+    const double area = cv::contourArea(contour);
+    if (area < kMinPieceAreaPx || area > kMaxPieceAreaPx) continue;
+    pieces.push_back(&contour);
+    const cv::Rect box = cv::boundingRect(contour);
+    reach.emplace_back(box.x - kPieceReachPx, box.y - kPieceReachPx, box.width + 2 * kPieceReachPx,
+                       box.height + 2 * kPieceReachPx);
+  }
+  std::vector<std::size_t> group(pieces.size());
+  for (std::size_t i = 0; i < group.size(); ++i) group[i] = i;
+  const auto root = [&group](std::size_t i) {
+    while (group[i] != i) i = group[i] = group[group[i]];
+    return i;
+  };
+  for (std::size_t i = 0; i < pieces.size(); ++i)
+    for (std::size_t j = i + 1; j < pieces.size(); ++j)
+      if ((reach[i] & reach[j]).area() > 0) group[root(i)] = root(j);
+  std::map<std::size_t, std::vector<cv::Point>> joined;
+  std::map<std::size_t, int> count;
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    auto& points = joined[root(i)];
+    points.insert(points.end(), pieces[i]->begin(), pieces[i]->end());
+    ++count[root(i)];
+  }
+  std::vector<std::vector<cv::Point>> out;
+  for (auto& [r, points] : joined)
+    if (count[r] >= kMinPieces) out.push_back(std::move(points));
+  return out;
+}
+
+/// Quadrilaterals that may outline the sheet: bright regions (its white
+/// margin and gaps, against what is behind it) whose area suits a grid of
+/// tags too small to decode, largest first.
+std::vector<std::array<Eigen::Vector2d, 4>> Outlines(const cv::Mat& gray,
+                                                     const AprilGridTarget& target) {
+  cv::Mat bright;
+  cv::adaptiveThreshold(gray, bright, 255, cv::ADAPTIVE_THRESH_MEAN_C, cv::THRESH_BINARY,
+                        kThresholdBlockPx, -kThresholdOffset);
+  // Every contour, holes included: the sheet is often a hole in what is behind it.
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(bright, contours, cv::RETR_LIST, cv::CHAIN_APPROX_SIMPLE);
+  const Eigen::Vector2d sheet_m = target.Extent().sizes();
+  const double tags_in_sheet = sheet_m.prod() / (target.tag_size_m() * target.tag_size_m());
+  std::vector<std::pair<double, std::array<Eigen::Vector2d, 4>>> found;
+  // A region whose hull is a quadrilateral of a plausible size, filled by
+  // it at least half, that looks like a grid inside.
+  const auto consider = [&](const std::vector<cv::Point>& region) {
+    std::vector<cv::Point> hull, quad;
+    cv::convexHull(region, hull);
+    const double area = cv::contourArea(hull);
+    const double tag_px = std::sqrt(area / tags_in_sheet);
+    if (tag_px < kMinOutlineTagPx || tag_px > kMaxOutlineTagPx) return;
+    cv::approxPolyDP(hull, quad, 0.03 * cv::arcLength(hull, true), true);
+    if (quad.size() != 4 || !LooksLikeGrid(gray, bright, quad)) return;
+    std::array<Eigen::Vector2d, 4> corners;
+    for (int k = 0; k < 4; ++k) corners[k] = Eigen::Vector2d(quad[k].x, quad[k].y);
+    found.emplace_back(area, corners);
+  };
+  for (const auto& contour : contours)
+    if (cv::contourArea(contour) >= 0.5 * ContourHullArea(contour)) consider(contour);
+  // The sheet in pieces (its margin lost across the tilt, or joined to
+  // something bright behind it): the gaps between its tags, each a bright
+  // strip, taken together.
+  for (const std::vector<cv::Point>& pieces : JoinedPieces(contours)) consider(pieces);
+  std::sort(found.begin(), found.end(),
+            [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<std::array<Eigen::Vector2d, 4>> outlines;
+  for (std::size_t k = 0; k < found.size() && k < kMaxOutlines; ++k)
+    outlines.push_back(found[k].second);
+  return outlines;
+}
+
+/// How many of the decoded tags have a corner more than a tenth of their
+/// side from where H puts it.
+int SeedsOff(const AprilGridTarget& target, const std::vector<SeedTag>& seeds,
+             const Eigen::Matrix3d& H) {
+  int off = 0;
+  for (const SeedTag& seed : seeds) {
+    const auto ids = target.TagCornerIds(seed.tag);
+    const double side = (seed.corners_px[1] - seed.corners_px[0]).norm();
+    bool moved = false;
+    for (int k = 0; k < 4; ++k)
+      moved |=
+          (ApplyHomography(H, target.FindPoint(ids[k])->p_target.head<2>()) - seed.corners_px[k])
+              .norm() > 0.1 * side;
+    off += moved;
+  }
+  return off;
+}
+
+/// The homography of the decoded tags, aligned; nullopt when a seed's
+/// corners end more than a tenth of its side from where the alignment puts
+/// them.
+std::optional<Eigen::Matrix3d> AlignFromSeeds(const AprilGridTarget& target, const cv::Mat& gray,
+                                              const std::vector<SeedTag>& seeds) {
+  std::vector<Eigen::Vector2d> on_board, in_image;
+  for (const SeedTag& seed : seeds) {
+    const auto ids = target.TagCornerIds(seed.tag);
+    for (int k = 0; k < 4; ++k) {
+      on_board.push_back(target.FindPoint(ids[k])->p_target.head<2>());
+      in_image.push_back(seed.corners_px[k]);
+    }
+  }
+  const auto start = FitHomography(on_board, in_image);
+  if (!start) return std::nullopt;
+  const auto frame = FrameFor(gray, target, *start);
+  if (!frame) return std::nullopt;
+  // Smoothed first (a wider basin), then at full detail.
+  auto H = Align(gray, *frame, *start, 5, 50);
+  if (H) H = Align(gray, *frame, *H, 1, 50);
+  if (!H) return std::nullopt;
+  if (SeedsOff(target, seeds, *H) > 0) return std::nullopt;
+  return H;
+}
+
+/// With no tag decoded: each outline taken for the sheet's in each of its
+/// four turns, aligned; the alignment under which the data cells follow the
+/// print clearly best.
+std::optional<Eigen::Matrix3d> AlignFromOutlines(const AprilGridTarget& target,
+                                                 const cv::Mat& gray) {
+  const Eigen::AlignedBox2d e = target.Extent();
+  const std::array<Eigen::Vector2d, 4> sheet = {
+      Eigen::Vector2d(e.min().x(), e.max().y()), Eigen::Vector2d(e.max().x(), e.max().y()),
+      Eigen::Vector2d(e.max().x(), e.min().y()), Eigen::Vector2d(e.min().x(), e.min().y())};
+  std::vector<std::pair<double, Eigen::Matrix3d>> aligned;
+  for (const auto& outline : Outlines(gray, target)) {
+    std::optional<Frame> frame;
+    for (int turn = 0; turn < 4; ++turn) {
+      // The outline runs clockwise in the image; the sheet's corners, seen
+      // from its printed side, the other way.
+      std::vector<Eigen::Vector2d> from(sheet.begin(), sheet.end()), to;
+      for (int k = 0; k < 4; ++k) to.push_back(outline[(turn + 4 - k) % 4]);
+      const auto start = FitHomography(from, to);
+      if (!start) continue;
+      if (!frame) frame = FrameFor(gray, target, *start);
+      if (!frame) break;
+      // A short smoothed alignment sorts the turns; the fine one is for the
+      // likely ones only.
+      auto H = Align(gray, *frame, *start, 5, kCoarseIterations);
+      const auto coarse = H ? GridCorrelation(target, gray, *H) : std::nullopt;
+      if (!coarse || *coarse < kMinCoarseCorrelation) continue;
+      H = Align(gray, *frame, *H, 5, 50);
+      if (H) H = Align(gray, *frame, *H, 1, 50);
+      if (!H) continue;
+      if (const auto score = GridCorrelation(target, gray, *H)) aligned.emplace_back(*score, *H);
+    }
+  }
+  if (aligned.empty()) return std::nullopt;
+  std::sort(aligned.begin(), aligned.end(),
+            [](const auto& a, const auto& b) { return a.first > b.first; });
+  const Eigen::Matrix3d& best = aligned.front().second;
+  // The same alignment reached from another outline or turn is no rival.
+  const auto same = [&](const Eigen::Matrix3d& H) {
+    for (const Eigen::Vector2d& corner : sheet)
+      if ((ApplyHomography(H, corner) - ApplyHomography(best, corner)).norm() > 2.0) return false;
+    return true;
+  };
+  double runner_up = -1;
+  for (std::size_t k = 1; k < aligned.size() && runner_up < 0; ++k)
+    if (!same(aligned[k].second)) runner_up = std::max(aligned[k].first, 0.0);
+  if (aligned.front().first < kMinGridCorrelation ||
+      aligned.front().first - runner_up < kMinGridLead)
+    return std::nullopt;
+  return best;
+}
+
+}  // namespace
+
+std::optional<GridAlignment> AlignGrid(const AprilGridTarget& target, const cv::Mat& gray,
+                                       const std::vector<SeedTag>& seeds) {
+  auto H = seeds.empty() ? std::nullopt : AlignFromSeeds(target, gray, seeds);
+  // Without seeds, or seeds that do not line the grid up (too small for
+  // their corners, or one misread): the outlines, provided the decoded tags
+  // mostly lie where they put them.
+  if (!H) {
+    H = AlignFromOutlines(target, gray);
+    if (H && 3 * SeedsOff(target, seeds, *H) > static_cast<int>(seeds.size())) H.reset();
+  }
+  if (!H) return std::nullopt;
+  // The grid as a whole must follow the print (seeds alone can be lined up
+  // with a wrong neighbourhood), and most of its tags in the image be seen.
+  const auto correlation = GridCorrelation(target, gray, *H);
+  if (!correlation || *correlation < kMinGridCorrelation) return std::nullopt;
+  GridAlignment alignment;
+  alignment.H_image_target = *H;
+  int in_image = 0;
+  for (int tag = 0; tag < target.NumTags(); ++tag) {
+    const auto seen = TagSeen(target, gray, *H, tag);
+    in_image += seen.has_value();
+    if (seen.value_or(false)) alignment.tags.push_back(tag);
+  }
+  if (2 * static_cast<int>(alignment.tags.size()) < in_image) return std::nullopt;
+  return alignment;
+}
+
+}  // namespace handeye::internal
