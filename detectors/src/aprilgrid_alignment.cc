@@ -34,6 +34,13 @@ constexpr double kMinDarkFraction = 0.3, kMaxDarkFraction = 0.65, kMinGreySigma 
 /// correlation after it for a turn to be aligned in full.
 constexpr int kCoarseIterations = 10;
 constexpr double kMinCoarseCorrelation = 0.05;
+/// The blurs tried for the image (Predict), px.
+constexpr double kMinBlurPx = 0.2, kMaxBlurPx = 2.6, kBlurStepPx = 0.3;
+/// The alignment of a tag's neighbourhood (LocalCorners): its iterations,
+/// the least pixels it needs, and how far (÷ the tag's side) it may move
+/// the tag from where the sheet's H puts it.
+constexpr int kLocalIterations = 30, kMinLocalPixels = 40;
+constexpr double kMaxLocalShift = 0.1;
 
 /// The print rendered about as large as it appears: template pixel (u, v)
 /// shows board point (x0 + u / s, y0 − v / s), x0, y0 the top-left of
@@ -65,6 +72,15 @@ Template RenderTemplate(const AprilGridTarget& target, double px_per_m) {
   return t;
 }
 
+/// The box in the image around the corners of `part` of the board under H.
+Eigen::AlignedBox2d ImageBox(const Eigen::Matrix3d& H, const Eigen::AlignedBox2d& part) {
+  Eigen::AlignedBox2d seen;
+  for (const auto corner : {Eigen::AlignedBox2d::BottomLeft, Eigen::AlignedBox2d::BottomRight,
+                            Eigen::AlignedBox2d::TopLeft, Eigen::AlignedBox2d::TopRight})
+    seen.extend(ApplyHomography(H, part.corner(corner)));
+  return seen;
+}
+
 /// The print rendered for the part of `gray` the sheet covers under H, and that part.
 struct Frame {
   Template print;
@@ -74,10 +90,7 @@ struct Frame {
 std::optional<Frame> FrameFor(const cv::Mat& gray, const AprilGridTarget& target,
                               const Eigen::Matrix3d& H) {
   const Eigen::AlignedBox2d e = target.Extent();
-  Eigen::AlignedBox2d seen;
-  for (const auto corner : {Eigen::AlignedBox2d::BottomLeft, Eigen::AlignedBox2d::BottomRight,
-                            Eigen::AlignedBox2d::TopLeft, Eigen::AlignedBox2d::TopRight})
-    seen.extend(ApplyHomography(H, e.corner(corner)));
+  const Eigen::AlignedBox2d seen = ImageBox(H, e);
   if (!seen.sizes().allFinite() || seen.sizes().maxCoeff() > 4.0 * (gray.cols + gray.rows))
     return std::nullopt;
   Frame frame;
@@ -380,6 +393,156 @@ std::optional<Eigen::Matrix3d> AlignFromOutlines(const AprilGridTarget& target,
   return best;
 }
 
+/// The print as the sheet's H shows it on the pixels of `box`, blurred as
+/// the image is (CV_32F), and the pixels well inside the sheet.
+struct Prediction {
+  cv::Rect box;
+  cv::Mat image;
+  cv::Mat on_sheet;  ///< CV_8U, 255 where the blurred print is the sheet's alone
+};
+
+/// The print rendered under H over the part of `gray` the sheet covers, with
+/// the Gaussian blur (σ, px) under which it correlates best with the image.
+/// The blur matters: a sharp print lined up with a blurred image by
+/// correlation over a window is pulled off where the window cuts through the
+/// pattern; on rendered oblique views (blur σ 0.6-1.2 px) the corners of a
+/// view so placed drew together, the sheet 1.3e-4 (median) and up to 1e-3
+/// smaller than it was, which moved cameras away by half a millimetre.
+/// With the blur matched the median was 0.25e-4 (too little blur: the same
+/// sign; too much: the other).
+std::optional<Prediction> Predict(const AprilGridTarget& target, const cv::Mat& gray,
+                                  const Eigen::Matrix3d& H) {
+  const Eigen::AlignedBox2d e = target.Extent();
+  const Eigen::AlignedBox2d seen = ImageBox(H, e);
+  if (!seen.sizes().allFinite() || seen.sizes().maxCoeff() > gray.cols + gray.rows)
+    return std::nullopt;
+  Prediction p;
+  p.box = cv::Rect(static_cast<int>(std::floor(seen.min().x())) - 1,
+                   static_cast<int>(std::floor(seen.min().y())) - 1,
+                   static_cast<int>(std::ceil(seen.sizes().x())) + 3,
+                   static_cast<int>(std::ceil(seen.sizes().y())) + 3) &
+          cv::Rect(0, 0, gray.cols, gray.rows);
+  if (p.box.width < 8 || p.box.height < 8) return std::nullopt;
+  // Away from the sheet's outline by half a gap: what lies beyond it is
+  // blurred into its margin.
+  const double g = 0.5 * target.tag_size_m() * target.tag_spacing();
+  const Eigen::AlignedBox2d inner(e.min() + Eigen::Vector2d(g, g), e.max() - Eigen::Vector2d(g, g));
+  const Eigen::Matrix3d H_target_image = H.inverse();
+  cv::Mat sharp(p.box.size(), CV_32F), inside(p.box.size(), CV_8U);
+  for (int y = 0; y < p.box.height; ++y)
+    for (int x = 0; x < p.box.width; ++x) {
+      double sum = 0;
+      for (int a = 0; a < kSupersampling; ++a)
+        for (int b = 0; b < kSupersampling; ++b) {
+          const Eigen::Vector2d uv(p.box.x + x + (a + 0.5) / kSupersampling - 0.5,
+                                   p.box.y + y + (b + 0.5) / kSupersampling - 0.5);
+          const Eigen::Vector2d xy = ApplyHomography(H_target_image, uv);
+          sum += target.Albedo(xy.x(), xy.y());
+        }
+      sharp.at<float>(y, x) = static_cast<float>(255.0 * sum / (kSupersampling * kSupersampling));
+      const Eigen::Vector2d xy =
+          ApplyHomography(H_target_image, Eigen::Vector2d(p.box.x + x, p.box.y + y));
+      inside.at<std::uint8_t>(y, x) = inner.contains(xy) ? 255 : 0;
+    }
+  cv::Mat seen_px;
+  gray(p.box).convertTo(seen_px, CV_32F);
+  // Blurred by σ: the print, and the pixels whose blur reaches no further
+  // than the sheet (nor the box's border).
+  const auto blurred = [&](double sigma, cv::Mat* image, cv::Mat* valid) {
+    cv::GaussianBlur(sharp, *image, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
+    const int r = static_cast<int>(std::ceil(2.0 * sigma));
+    cv::Mat framed = inside.clone();
+    cv::rectangle(framed, cv::Rect(0, 0, framed.cols, framed.rows), cv::Scalar(0), 1);
+    cv::erode(framed, *valid, cv::Mat::ones(2 * r + 1, 2 * r + 1, CV_8U));
+  };
+  const auto correlation = [&](double sigma) {
+    cv::Mat image, valid;
+    blurred(sigma, &image, &valid);
+    std::vector<double> a, b;
+    for (int y = 0; y < image.rows; ++y)
+      for (int x = 0; x < image.cols; ++x)
+        if (valid.at<std::uint8_t>(y, x)) {
+          a.push_back(image.at<float>(y, x));
+          b.push_back(seen_px.at<float>(y, x));
+        }
+    return Pearson(a, b).value_or(-1.0);
+  };
+  // The best of a coarse ladder, then the vertex of the parabola through it
+  // and its neighbours.
+  std::vector<double> score;
+  for (double sigma = kMinBlurPx; sigma <= kMaxBlurPx + 1e-9; sigma += kBlurStepPx)
+    score.push_back(correlation(sigma));
+  const std::size_t best =
+      static_cast<std::size_t>(std::max_element(score.begin(), score.end()) - score.begin());
+  double blur_px = kMinBlurPx + kBlurStepPx * static_cast<double>(best);
+  if (best > 0 && best + 1 < score.size()) {
+    const double l = score[best - 1], c = score[best], r = score[best + 1];
+    const double curvature = l - 2 * c + r;
+    if (curvature < 0) blur_px += 0.5 * kBlurStepPx * (l - r) / curvature;
+  }
+  blurred(blur_px, &p.image, &p.on_sheet);
+  return p;
+}
+
+/// Tag `tag`'s corners (TagCornerIds() order) under the sheet's H, shifted
+/// by where the image around the tag lines up best with the prediction
+/// there. The one homography of the whole sheet is least sure of its
+/// perspective across the tilt: on rendered oblique views its corners lay
+/// off by up to 0.4 px, every corner of a view in one smooth pattern, which
+/// the solve, trusting corners to 0.05 px, took for the pose. A shift alone,
+/// from the tag and its neighbours, is well determined where a homography
+/// of that patch is not. nullopt when the tag's neighbourhood is not all in
+/// the prediction, the alignment fails, or the shift exceeds kMaxLocalShift
+/// of the tag's side.
+std::optional<std::array<Eigen::Vector2d, 4>> LocalCorners(const AprilGridTarget& target,
+                                                           const cv::Mat& gray,
+                                                           const Eigen::Matrix3d& H,
+                                                           const Prediction& prediction, int tag) {
+  const double size = target.tag_size_m(), gap = size * target.tag_spacing(), pitch = size + gap;
+  const int i = tag % target.tags_x(), j = tag / target.tags_x();
+  // The tag with half of each neighbour and the gaps between; tag (i, j)
+  // spans x in [i·p, i·p + size], y in [−j·p − size, −j·p].
+  const double reach = 0.5 * pitch + gap;
+  const Eigen::AlignedBox2d part(Eigen::Vector2d(i * pitch - reach, -j * pitch - size - reach),
+                                 Eigen::Vector2d(i * pitch + size + reach, -j * pitch + reach));
+  const Eigen::AlignedBox2d seen = ImageBox(H, part);
+  const cv::Rect crop = cv::Rect(static_cast<int>(std::floor(seen.min().x())),
+                                 static_cast<int>(std::floor(seen.min().y())),
+                                 static_cast<int>(std::ceil(seen.sizes().x())) + 2,
+                                 static_cast<int>(std::ceil(seen.sizes().y())) + 2) &
+                        prediction.box;
+  if (crop.width < 4 || crop.height < 4) return std::nullopt;
+  const cv::Rect local = crop - prediction.box.tl();
+  const Eigen::Matrix3d H_target_image = H.inverse();
+  cv::Mat mask = prediction.on_sheet(local).clone();
+  for (int y = 0; y < mask.rows; ++y)
+    for (int x = 0; x < mask.cols; ++x) {
+      const Eigen::Vector2d xy =
+          ApplyHomography(H_target_image, Eigen::Vector2d(crop.x + x, crop.y + y));
+      if (!part.contains(xy)) mask.at<std::uint8_t>(y, x) = 0;
+    }
+  if (cv::countNonZero(mask) < kMinLocalPixels) return std::nullopt;
+  cv::Mat seen_px;
+  gray(crop).convertTo(seen_px, CV_32F);
+  cv::Mat warp = cv::Mat::eye(2, 3, CV_32F);
+  try {
+    cv::findTransformECC(
+        prediction.image(local), seen_px, warp, cv::MOTION_TRANSLATION,
+        cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, kLocalIterations, 1e-6),
+        mask, 1);
+  } catch (const cv::Exception&) {
+    return std::nullopt;  // did not converge
+  }
+  const Eigen::Vector2d shift(warp.at<float>(0, 2), warp.at<float>(1, 2));
+  const auto ids = target.TagCornerIds(tag);
+  std::array<Eigen::Vector2d, 4> corners;
+  for (int k = 0; k < 4; ++k)
+    corners[k] = ApplyHomography(H, target.FindPoint(ids[k])->p_target.head<2>()) + shift;
+  const double side = std::min((corners[1] - corners[0]).norm(), (corners[3] - corners[0]).norm());
+  if (!shift.allFinite() || shift.norm() > kMaxLocalShift * side) return std::nullopt;
+  return corners;
+}
+
 }  // namespace
 
 std::optional<GridAlignment> AlignGrid(const AprilGridTarget& target, const cv::Mat& gray,
@@ -399,13 +562,18 @@ std::optional<GridAlignment> AlignGrid(const AprilGridTarget& target, const cv::
   if (!correlation || *correlation < kMinGridCorrelation) return std::nullopt;
   GridAlignment alignment;
   alignment.H_image_target = *H;
-  int in_image = 0;
+  const auto prediction = Predict(target, gray, *H);
+  int in_image = 0, seen_tags = 0;
   for (int tag = 0; tag < target.NumTags(); ++tag) {
     const auto seen = TagSeen(target, gray, *H, tag);
     in_image += seen.has_value();
-    if (seen.value_or(false)) alignment.tags.push_back(tag);
+    if (!seen.value_or(false)) continue;
+    ++seen_tags;
+    if (!prediction) continue;
+    if (const auto corners = LocalCorners(target, gray, *H, *prediction, tag))
+      alignment.tags.push_back({tag, *corners});
   }
-  if (2 * static_cast<int>(alignment.tags.size()) < in_image) return std::nullopt;
+  if (2 * seen_tags < in_image) return std::nullopt;
   return alignment;
 }
 

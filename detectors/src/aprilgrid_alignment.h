@@ -27,7 +27,11 @@ struct SeedTag {
 /// x and y of TargetPoint::p_target) to pixels, and the tags seen under it.
 struct GridAlignment {
   Eigen::Matrix3d H_image_target = Eigen::Matrix3d::Identity();
-  std::vector<int> tags;  ///< grid indices, ascending
+  /// The tags seen, ascending, with their corners (TagCornerIds() order,
+  /// pixels): H's, shifted by the alignment of the tag's neighbourhood with
+  /// the print blurred as the image is (a tag whose neighbourhood does not
+  /// line up is left out).
+  std::vector<SeedTag> tags;
 };
 
 /// Lines the rendered print up with `gray` (8-bit) by maximising their

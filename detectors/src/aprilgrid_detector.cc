@@ -329,12 +329,13 @@ std::optional<Detection> AprilGridDetector::Detect(const cv::Mat& gray) const {
     if (const auto alignment = internal::AlignGrid(*target_, gray, seeds)) {
       std::vector<bool> have(static_cast<std::size_t>(4 * target_->NumTags()), false);
       for (const auto& point : found) have[static_cast<std::size_t>(point.first)] = true;
-      for (const int tag : alignment->tags)
-        for (const int id : target_->TagCornerIds(tag)) {
-          const Eigen::Vector2d uv = internal::ApplyHomography(
-              alignment->H_image_target, target_->FindPoint(id)->p_target.head<2>());
-          if (!have[static_cast<std::size_t>(id)] && inside(uv)) found.emplace_back(id, uv);
+      for (const internal::SeedTag& tag : alignment->tags) {
+        const auto ids = target_->TagCornerIds(tag.tag);
+        for (int k = 0; k < 4; ++k) {
+          const std::size_t id = static_cast<std::size_t>(ids[k]);
+          if (!have[id] && inside(tag.corners_px[k])) found.emplace_back(ids[k], tag.corners_px[k]);
         }
+      }
     }
   }
   if (static_cast<int>(found.size()) < options_.min_corners) return std::nullopt;
