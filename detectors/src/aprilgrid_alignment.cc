@@ -28,6 +28,14 @@ constexpr int kThresholdBlockPx = 31, kThresholdOffset = 5;
 /// apart they may lie, and how many make a sheet (JoinedPieces).
 constexpr double kMinPieceAreaPx = 60, kMaxPieceAreaPx = 3000;
 constexpr int kPieceReachPx = 3, kMinPieces = 3;
+/// How far (÷ its side) a decoded tag's corner may lie from where an
+/// alignment from the seeds puts it, and how far from where an outline's
+/// alignment puts it before the tag contradicts it. The corners the library
+/// gives a tag too small to fit are rough: on a rendered view at 64° an
+/// outline's alignment (data cells correlating 0.62 with the print, 0.06 for
+/// any other) was refused for its one decoded tag's corners, a tenth of the
+/// side off; a tag placed elsewhere is off by a whole side.
+constexpr double kSeedTolerance = 0.1, kSeedContradiction = 0.5;
 /// What an outline must hold to be tried (LooksLikeGrid).
 constexpr double kMinDarkFraction = 0.3, kMaxDarkFraction = 0.65, kMinGreySigma = 15;
 /// The short, smoothed alignment of every outline's turns, and the
@@ -299,10 +307,10 @@ std::vector<std::array<Eigen::Vector2d, 4>> Outlines(const cv::Mat& gray,
   return outlines;
 }
 
-/// How many of the decoded tags have a corner more than a tenth of their
+/// How many of the decoded tags have a corner more than `fraction` of their
 /// side from where H puts it.
 int SeedsOff(const AprilGridTarget& target, const std::vector<SeedTag>& seeds,
-             const Eigen::Matrix3d& H) {
+             const Eigen::Matrix3d& H, double fraction) {
   int off = 0;
   for (const SeedTag& seed : seeds) {
     const auto ids = target.TagCornerIds(seed.tag);
@@ -311,7 +319,7 @@ int SeedsOff(const AprilGridTarget& target, const std::vector<SeedTag>& seeds,
     for (int k = 0; k < 4; ++k)
       moved |=
           (ApplyHomography(H, target.FindPoint(ids[k])->p_target.head<2>()) - seed.corners_px[k])
-              .norm() > 0.1 * side;
+              .norm() > fraction * side;
     off += moved;
   }
   return off;
@@ -338,7 +346,7 @@ std::optional<Eigen::Matrix3d> AlignFromSeeds(const AprilGridTarget& target, con
   auto H = Align(gray, *frame, *start, 5, 50);
   if (H) H = Align(gray, *frame, *H, 1, 50);
   if (!H) return std::nullopt;
-  if (SeedsOff(target, seeds, *H) > 0) return std::nullopt;
+  if (SeedsOff(target, seeds, *H, kSeedTolerance) > 0) return std::nullopt;
   return H;
 }
 
@@ -553,7 +561,8 @@ std::optional<GridAlignment> AlignGrid(const AprilGridTarget& target, const cv::
   // mostly lie where they put them.
   if (!H) {
     H = AlignFromOutlines(target, gray);
-    if (H && 3 * SeedsOff(target, seeds, *H) > static_cast<int>(seeds.size())) H.reset();
+    if (H && 3 * SeedsOff(target, seeds, *H, kSeedContradiction) > static_cast<int>(seeds.size()))
+      H.reset();
   }
   if (!H) return std::nullopt;
   // The grid as a whole must follow the print (seeds alone can be lined up

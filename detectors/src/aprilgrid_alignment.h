@@ -39,7 +39,8 @@ struct GridAlignment {
 /// `seeds`, or, with none (or seeds it does not line up: their corners more
 /// than a tenth of their side off), from each bright outline that may be the
 /// sheet's, in each of its four turns; an outline's alignment needs a third
-/// of the seeds or fewer off, and a correlation of the grid's data cells
+/// of the seeds or fewer more than half their side off (placed elsewhere),
+/// and a correlation of the grid's data cells
 /// with the print kMinGridLead ahead of any other's.
 ///
 /// nullopt when nothing lines up, when the grid's data cells correlate with
