@@ -39,7 +39,7 @@ install(EXPORT handeyeTargets
         COMPONENT handeye_development)
 
 # What a consumer of static libraries has to find again (handeyeConfig.cmake.in).
-set(HANDEYE_OPENCV_COMPONENTS core imgproc imgcodecs calib3d video)
+set(HANDEYE_OPENCV_COMPONENTS core imgproc imgcodecs calib3d video photo)
 if(TARGET opencv_aruco)
   list(APPEND HANDEYE_OPENCV_COMPONENTS aruco)
 endif()

@@ -151,8 +151,9 @@ TEST_CASE("aprilgrid seen at 45-70 degrees: the tags that decode place the rest 
   // now 10 of them give 948 corners. Placed by the sheet's homography alone
   // they were 0.074 px off on average and drawn together (median scale bias
   // -18e-4: the calibration put cameras too far); each tag shifted to its
-  // neighbourhood's fit with the print blurred as the image is, 0.030 px
-  // and -0.9e-4.
+  // neighbourhood's fit with the image as predicted (the print blurred as
+  // the image is, the sheet's edge and what lies behind it), 0.030 px and
+  // -0.3e-4.
   const auto grid = Grid();
   const Tally tally = DetectViews(*grid, *grid, 18, 45, 25, 300);
   INFO(Summary(tally));
@@ -161,14 +162,14 @@ TEST_CASE("aprilgrid seen at 45-70 degrees: the tags that decode place the rest 
   CHECK(tally.points >= 900);
   CHECK(tally.wrong == 0);
   CHECK(Mean(tally.errors) <= 0.05);
-  CHECK(std::abs(Median(tally.scale_bias)) <= 5e-4);
+  CHECK(std::abs(Median(tally.scale_bias)) <= 3e-4);
 }
 
 TEST_CASE("aprilgrid too small to decode at 60-75 degrees: the sheet's outline and the tags' grey levels place it",
           "[aprilgrid][oblique]") {
   // 14 px tags face-on (1.4 px per bit): no tag decodes, and before nothing
-  // was found (now 7 views, 596 corners, 0.035 px and a median scale bias of
-  // -2.6e-4; the sheet's homography alone: 0.086 px, -29e-4). The sheet's bright
+  // was found (now 7 views, 596 corners, 0.034 px and a median scale bias of
+  // -1.4e-4; the sheet's homography alone: 0.086 px, -29e-4). The sheet's bright
   // outline (or, where its margin is lost, the bright gaps between its tags
   // taken together) is tried in its four turns; the print lined up with the
   // image from each, the turn under which the tags' grey levels follow
@@ -181,7 +182,7 @@ TEST_CASE("aprilgrid too small to decode at 60-75 degrees: the sheet's outline a
   CHECK(tally.points >= 560);
   CHECK(tally.wrong == 0);
   CHECK(Mean(tally.errors) <= 0.05);
-  CHECK(std::abs(Median(tally.scale_bias)) <= 5e-4);
+  CHECK(std::abs(Median(tally.scale_bias)) <= 3e-4);
 }
 
 TEST_CASE("aprilgrid placed whole: covered tags are left out, another grid's print is not placed",
