@@ -505,10 +505,11 @@ std::optional<Prediction> Predict(const AprilGridTarget& target, const cv::Mat& 
   // out where the sheet's own blur reaches; all blurred. Cut off a blur's
   // reach inside the sheet instead, the windows of the tags at its ends were
   // lopsided: on a rendered view at 70° the tags at the far end along the
-  // tilt were pulled inwards by 0.10-0.13 px, and the solve read the view as
-  // a principal point 1.3 px off; the least scale of a view's corners against
-  // the truth on the cell's five captures was −11e-4 to −23e-4, with the
-  // edge modelled −2.5e-4 to −3.8e-4.
+  // tilt were pulled inwards by 0.10-0.13 px, and the solve read two such
+  // views as a principal point 1.3 px off. The least scale of a view's
+  // corners against the truth, per capture of bench/aprilgrid-oblique (seeds
+  // 1, 2, 3, 5): −4.6e-4 to −11.9e-4 before, −0.9e-4 to −3.9e-4 with the
+  // edge modelled (seed 4: −4.4e-4; the old detector's −0.7e-4 to −9.9e-4).
   cv::Mat print, interior;
   blurred(blur_px, &print, &interior);
   double sa = 0, sb = 0, saa = 0, sab = 0;
