@@ -17,6 +17,10 @@
 
 #include "handeye/core/error.h"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 // Why libspng, and libdeflate beside it (issues 15 and 12): libspng reads
 // every PNG form and names what is wrong with a damaged file, so every file
 // goes through it first. It inflates with zlib, which was slow on the
@@ -65,13 +69,47 @@ inline int Paeth(int left, int up, int upper_left) {
 /// pixels of kBpp bytes, the left pixel kept in registers: a loop reading
 /// back the byte it wrote three bytes before ran at a third of the speed,
 /// and cameras' PNGs are often filtered with Sub on every row (METRIC's are).
+/// `left` is the pixel before raw[0] (zeros at a row's start).
 template <int kBpp>
-void UnfilterSub(const std::uint8_t* raw, std::uint8_t* out, std::size_t row_bytes) {
-  std::array<std::uint8_t, kBpp> left{};
+void UnfilterSubScalar(const std::uint8_t* raw, std::uint8_t* out, std::size_t row_bytes,
+                       std::array<std::uint8_t, kBpp> left) {
   for (std::size_t i = 0; i + kBpp <= row_bytes; i += kBpp) {
     for (int c = 0; c < kBpp; ++c)
       out[i + c] = left[c] = static_cast<std::uint8_t>(left[c] + raw[i + c]);
   }
+}
+
+template <int kBpp>
+void UnfilterSub(const std::uint8_t* raw, std::uint8_t* out, std::size_t row_bytes) {
+  std::size_t i = 0;
+  std::array<std::uint8_t, kBpp> left{};
+#if defined(__SSE2__)
+  // Sub is a running sum per channel, 16 bytes at a time: the whole pixels
+  // of a register (5 of 3 bytes, 4 of 4, 16 of 1) summed within it by adding
+  // it shifted by 1, 2, 4 and 8 pixels, then the running sum of the blocks
+  // before added to every pixel. That sum grows by the block's last pixel,
+  // spread over every pixel the same way: the one add that waits on the
+  // block before. On METRIC's images (Sub on every row) the scalar loop was
+  // 18 % of a `handeye calibrate`.
+  constexpr int kStep = 16 / kBpp * kBpp;  // bytes of whole pixels in a register
+  const auto sum_pixels = [](__m128i x) {
+    x = _mm_add_epi8(x, _mm_slli_si128(x, kBpp));
+    x = _mm_add_epi8(x, _mm_slli_si128(x, 2 * kBpp));
+    if constexpr (4 * kBpp < 16) x = _mm_add_epi8(x, _mm_slli_si128(x, 4 * kBpp));
+    if constexpr (8 * kBpp < 16) x = _mm_add_epi8(x, _mm_slli_si128(x, 8 * kBpp));
+    return x;
+  };
+  __m128i before = _mm_setzero_si128();  // the running sum, in every pixel
+  for (; i + 16 <= row_bytes; i += kStep) {
+    const __m128i block = sum_pixels(_mm_loadu_si128(reinterpret_cast<const __m128i*>(raw + i)));
+    // 16 bytes stored: past kStep (one byte for 3-byte pixels) the next block overwrites them.
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), _mm_add_epi8(block, before));
+    before = _mm_add_epi8(before,
+                          sum_pixels(_mm_srli_si128(_mm_slli_si128(block, 16 - kStep), 16 - kBpp)));
+  }
+  if (i > 0) std::memcpy(left.data(), out + i - kBpp, kBpp);
+#endif
+  UnfilterSubScalar<kBpp>(raw + i, out + i, row_bytes - i, left);
 }
 
 /// Undoes one row's filter: `raw` (row_bytes) into `out`, with `up` the row
