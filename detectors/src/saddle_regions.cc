@@ -35,23 +35,30 @@ std::vector<SaddlePoint> FindSaddlePoints(const cv::Mat& gray, const SaddleRegio
   // X-junction of contrast C (squares at -C/2 and +C/2) smoothed by a Gaussian
   // of sigma, Ixx = Iyy = 0 and Ixy = C / (pi sigma^2); the 3x3 Sobel kernels
   // estimate each second derivative 4x over.
-  cv::Mat strength = dxy.mul(dxy) - dxx.mul(dyy);
   const double ixy = 4.0 * options.min_contrast / (M_PI * options.sigma_px * options.sigma_px);
-  const double threshold = ixy * ixy;
-
-  // Local maxima above the threshold.
-  cv::Mat dilated;
-  cv::dilate(strength, dilated, cv::Mat());
-  cv::Mat peaks = (strength >= dilated) & (strength > threshold);
-  peaks.rowRange(0, border).setTo(0);
-  peaks.rowRange(peaks.rows - border, peaks.rows).setTo(0);
-  peaks.colRange(0, border).setTo(0);
-  peaks.colRange(peaks.cols - border, peaks.cols).setTo(0);
-  std::vector<cv::Point> points;
-  cv::findNonZero(peaks, points);
-  saddles.reserve(points.size());
-  for (const cv::Point& p : points)
-    saddles.push_back({p, dxx.at<float>(p), dxy.at<float>(p), dyy.at<float>(p)});
+  const auto threshold = static_cast<float>(ixy * ixy);
+  // In one pass each (as products, differences and comparisons of floats,
+  // the same as OpenCV's whole-image operations gave): every image is
+  // searched, with a board or not, and those operations, with a dilation to
+  // find the local maxima, took a third of the detector's time on METRIC.
+  cv::Mat strength(smooth.size(), CV_32F);
+  for (int y = 0; y < strength.rows; ++y) {
+    const float *xx = dxx.ptr<float>(y), *xy = dxy.ptr<float>(y), *yy = dyy.ptr<float>(y);
+    float* out = strength.ptr<float>(y);
+    for (int x = 0; x < strength.cols; ++x) out[x] = xy[x] * xy[x] - xx[x] * yy[x];
+  }
+  // Local maxima (no greater neighbour of the eight) above the threshold.
+  for (int y = border; y < strength.rows - border; ++y) {
+    const float *above = strength.ptr<float>(y - 1), *row = strength.ptr<float>(y),
+                *below = strength.ptr<float>(y + 1);
+    for (int x = border; x < strength.cols - border; ++x) {
+      const float s = row[x];
+      if (!(s > threshold)) continue;
+      if (s >= above[x - 1] && s >= above[x] && s >= above[x + 1] && s >= row[x - 1] &&
+          s >= row[x + 1] && s >= below[x - 1] && s >= below[x] && s >= below[x + 1])
+        saddles.push_back({{x, y}, dxx.at<float>(y, x), dxy.at<float>(y, x), dyy.at<float>(y, x)});
+    }
+  }
   return saddles;
 }
 
