@@ -92,6 +92,52 @@ TEST_CASE("Grid patches: on the board's corners, none in clutter", "[checkerboar
   }
 }
 
+TEST_CASE("Saddle points: the local maxima of -det(H) that cv::Sobel's derivatives give",
+          "[checkerboard][cascade]") {
+  // The saddle search computes the Sobel derivatives, the strength and the
+  // maxima itself, pixel by pixel; here the same from OpenCV's whole-image
+  // operations, on a board among clutter and on clutter alone.
+  const View view = ObliqueView(5);
+  const Camera camera = test::MakeTestCamera(1920, 1080, 0.9 * 1920, test::MildDistortion());
+  Eigen::Isometry3d behind_camera = Eigen::Isometry3d::Identity();
+  behind_camera.translation() = Eigen::Vector3d(0, 0, -1);
+  RenderOptions clutter;
+  clutter.seed = 2;
+  for (const cv::Mat& image :
+       {Half(view.image), Half(RenderView(camera, *view.board, behind_camera, clutter))}) {
+    const internal::SaddleRegionOptions options;
+    cv::Mat smooth;
+    image.convertTo(smooth, CV_32F);
+    cv::GaussianBlur(smooth, smooth, cv::Size(), options.sigma_px, options.sigma_px,
+                     cv::BORDER_REPLICATE);
+    cv::Mat dxx, dyy, dxy;
+    cv::Sobel(smooth, dxx, CV_32F, 2, 0, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+    cv::Sobel(smooth, dyy, CV_32F, 0, 2, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+    cv::Sobel(smooth, dxy, CV_32F, 1, 1, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+    const cv::Mat strength = dxy.mul(dxy) - dxx.mul(dyy);
+    const double ixy = 4.0 * options.min_contrast / (M_PI * options.sigma_px * options.sigma_px);
+    cv::Mat dilated;
+    cv::dilate(strength, dilated, cv::Mat());
+    cv::Mat peaks = (strength >= dilated) & (strength > ixy * ixy);
+    const cv::Rect inside(2, 2, peaks.cols - 4, peaks.rows - 4);
+    std::vector<cv::Point> expected;
+    cv::findNonZero(peaks(inside), expected);
+
+    const auto saddles = internal::FindSaddlePoints(image, options);
+    REQUIRE(saddles.size() == expected.size());
+    CHECK(saddles.size() > 20);
+    for (std::size_t i = 0; i < saddles.size(); ++i) {
+      const cv::Point p = expected[i] + inside.tl();
+      REQUIRE(saddles[i].pixel == p);
+      const double scale = std::abs(dxx.at<float>(p)) + std::abs(dxy.at<float>(p)) +
+                           std::abs(dyy.at<float>(p));
+      CHECK(std::abs(saddles[i].dxx - dxx.at<float>(p)) <= 1e-5 * scale);
+      CHECK(std::abs(saddles[i].dxy - dxy.at<float>(p)) <= 1e-5 * scale);
+      CHECK(std::abs(saddles[i].dyy - dyy.at<float>(p)) <= 1e-5 * scale);
+    }
+  }
+}
+
 TEST_CASE("Grid refinement: the same points from whichever grid the search returned",
           "[checkerboard][cascade]") {
   // A crop and the whole image give OpenCV's search different grids to start
