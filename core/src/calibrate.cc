@@ -197,7 +197,7 @@ void PrepareViews(Calibration* c) {
   Problem& problem = c->problem;
   if (c->options.check_setup) {
     internal::LeaveOutRepeatedViews(&problem);
-    c->result.notes.push_back(internal::CheckSetupMistakes(problem));
+    c->result.notes.push_back(internal::CheckSetupMistakes(problem, c->options.threads));
   } else {
     c->result.notes.push_back(
         "the setup checks were skipped: the data were taken as they are (--accept-setup)");

@@ -75,14 +75,11 @@ std::optional<Eigen::Isometry3d> FromVisp(const vpHomogeneousMatrix& V) {
 // call both of the process's C++ and C stdout streams point at a sink that
 // drops everything: std::cout gets another buffer, and glibc's `stdout`
 // (an ordinary variable there, which printf reads at each call) another
-// FILE. The lock serialises the swaps so each restores what the process had.
-// Whatever another thread prints to std::cout or stdout meanwhile is lost
-// (documented on kVisp); writes straight to fd 1 are not affected.
-std::mutex& StdoutSwapMutex() {
-  static std::mutex mutex;
-  return mutex;
-}
-
+// FILE. The streams stay swapped while any thread is in such a call (the
+// setup checks run ViSP on several threads at once): the first in swaps
+// them, the last out puts back what the process had; the sinks hold no
+// state. Whatever another thread prints to std::cout or stdout meanwhile is
+// lost (documented on kVisp); writes straight to fd 1 are not affected.
 class NullBuffer : public std::streambuf {
  protected:
   int_type overflow(int_type c) override { return traits_type::not_eof(c); }
@@ -93,32 +90,46 @@ ssize_t DropWrite(void*, const char*, size_t size) { return static_cast<ssize_t>
 
 class SilencedStdout {
  public:
-  SilencedStdout() : lock_(StdoutSwapMutex()) {
-    saved_buffer_ = std::cout.rdbuf(&null_buffer_);
+  SilencedStdout() {
+    Swap& swap = TheSwap();
+    const std::lock_guard<std::mutex> lock(swap.mutex);
+    if (swap.users++ > 0) return;
+    swap.saved_buffer = std::cout.rdbuf(&swap.null_buffer);
     cookie_io_functions_t drop{};
     drop.write = DropWrite;
-    sink_ = fopencookie(nullptr, "w", drop);
-    if (sink_ != nullptr) {
-      saved_stdout_ = stdout;
-      stdout = sink_;
+    swap.sink = fopencookie(nullptr, "w", drop);
+    if (swap.sink != nullptr) {
+      swap.saved_stdout = stdout;
+      stdout = swap.sink;
     }
   }
   ~SilencedStdout() {
-    std::cout.rdbuf(saved_buffer_);
-    if (sink_ != nullptr) {
-      stdout = saved_stdout_;
-      std::fclose(sink_);
+    Swap& swap = TheSwap();
+    const std::lock_guard<std::mutex> lock(swap.mutex);
+    if (--swap.users > 0) return;
+    std::cout.rdbuf(swap.saved_buffer);
+    if (swap.sink != nullptr) {
+      stdout = swap.saved_stdout;
+      std::fclose(swap.sink);
+      swap.sink = nullptr;
     }
   }
   SilencedStdout(const SilencedStdout&) = delete;
   SilencedStdout& operator=(const SilencedStdout&) = delete;
 
  private:
-  std::lock_guard<std::mutex> lock_;
-  NullBuffer null_buffer_;
-  std::streambuf* saved_buffer_ = nullptr;
-  FILE* sink_ = nullptr;
-  FILE* saved_stdout_ = nullptr;
+  struct Swap {
+    std::mutex mutex;
+    int users = 0;  ///< threads inside a silenced call
+    NullBuffer null_buffer;
+    std::streambuf* saved_buffer = nullptr;
+    FILE* sink = nullptr;
+    FILE* saved_stdout = nullptr;
+  };
+  static Swap& TheSwap() {
+    static Swap swap;
+    return swap;
+  }
 };
 
 // ViSP solves rMe[j] · eMc · cMo[j] = const. eye_in_hand is its native case

@@ -17,6 +17,7 @@
 #include "half_turn.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
+#include "parallel.h"
 #include "problem.h"
 #include "residuals.h"
 
@@ -360,10 +361,14 @@ std::vector<Warning> DiagnoseSolution(
     cam.rotation_spread_deg = motions.largest_deg;
     cam.axis_spread_deg = AxisSpreadDeg(motions.axes);
     cam.closed_form.reset();
-    if (options.compare_closed_form && T_cam_mount[k])
-      cam.closed_form = CompareWithClosedForm(problem, static_cast<int>(k), *T_cam_mount[k],
-                                              T_holder_target[k], closed_form);
   }
+  // A closed form of every camera on all its views: on `threads` threads.
+  if (options.compare_closed_form)
+    ParallelFor(n, options.threads, [&](std::size_t k) {
+      if (T_cam_mount[k])
+        result->cameras[k].closed_form = CompareWithClosedForm(
+            problem, static_cast<int>(k), *T_cam_mount[k], T_holder_target[k], closed_form);
+    });
   result->metrics.rms_px = total.points ? std::sqrt(total.sq / total.points) : 0.0;
   result->metrics.axzb_translation_mm = axzb_views ? 1000.0 * total.axzb_target / axzb_views : 0.0;
   result->metrics.axzb_camera_translation_mm =

@@ -16,6 +16,7 @@
 #include "handeye/core/error.h"
 #include "handeye/core/setup_frames.h"
 #include "handeye/core/transform.h"
+#include "parallel.h"
 #include "problem.h"
 #include "residuals.h"
 #include "robot_error.h"
@@ -320,16 +321,24 @@ std::string Diagnosis(const Problem& problem, const Hypothesis& h, const Score& 
 
 }  // namespace
 
-SetupVerdict JudgeSetup(const Problem& problem) {
+SetupVerdict JudgeSetup(const Problem& problem, int threads) {
   SetupVerdict verdict;
   const Problem scoring = ScoringProblem(problem);
-  const Score given = ScoreOf(scoring, Hypothesis{});
+  // The data as given first, then every repair: closed forms of every camera
+  // for each, on `threads` threads (they were half of a METRIC solve).
+  std::vector<Hypothesis> hypotheses = {Hypothesis{}};
+  for (const Hypothesis& h : Hypotheses(scoring)) hypotheses.push_back(h);
+  std::vector<Score> scores(hypotheses.size());
+  ParallelFor(hypotheses.size(), threads,
+              [&](std::size_t i) { scores[i] = ScoreOf(scoring, hypotheses[i]); });
+  const Score& given = scores[0];
   verdict.given_px = given.median_rms_px;
   if (given.cameras == 0) return verdict;
   std::optional<Hypothesis> best;
   Score best_score;
-  for (const Hypothesis& h : Hypotheses(scoring)) {
-    const Score score = ScoreOf(scoring, h);
+  for (std::size_t i = 1; i < hypotheses.size(); ++i) {
+    const Hypothesis& h = hypotheses[i];
+    const Score& score = scores[i];
     // A repair that leaves cameras unsolved is not compared on fewer views.
     if (score.cameras < given.cameras || !(score.median_rms_px < best_score.median_rms_px))
       continue;
@@ -357,9 +366,9 @@ SetupVerdict JudgeSetup(const Problem& problem) {
   return verdict;
 }
 
-std::string CheckSetupMistakes(const Problem& problem) {
+std::string CheckSetupMistakes(const Problem& problem, int threads) {
   // No time in the note: a result's text is the same however long a run took.
-  const SetupVerdict verdict = JudgeSetup(problem);
+  const SetupVerdict verdict = JudgeSetup(problem, threads);
   if (!verdict.mistake.empty()) throw SolveError(verdict.mistake);
   if (!std::isfinite(verdict.given_px))
     return "the setup checks did not run: no camera has " + std::to_string(kMinScoredViews) +

@@ -35,8 +35,9 @@ struct SetupVerdict {
   std::string best;                                          ///< the best repair, in words
   std::string mistake;  ///< the message when it is called a mistake; empty otherwise
 };
-/// The judgement CheckSetupMistakes acts on (see there).
-SetupVerdict JudgeSetup(const Problem& problem);
+/// The judgement CheckSetupMistakes acts on (see there), the hypotheses
+/// scored on `threads` threads (0 = all cores).
+SetupVerdict JudgeSetup(const Problem& problem, int threads);
 
 /// Tries each usual mistake against the views' PnP poses: robot poses
 /// inverted (or the setup swapped, which fits the same chain), rotation
@@ -47,7 +48,7 @@ SetupVerdict JudgeSetup(const Problem& problem);
 /// Throws SolveError naming the mistake and its fix when one scores
 /// kMistakeRatio times better than the data as given; else returns a note
 /// of what it found (for the result's notes).
-std::string CheckSetupMistakes(const Problem& problem);
+std::string CheckSetupMistakes(const Problem& problem, int threads);
 
 /// Throws SolveError when the robot's pose error, estimated from the views,
 /// is larger than any industrial robot's (σ > 5 mm or > 0.5° per axis): a

@@ -43,9 +43,10 @@ SyntheticScene Scene(int cameras, int poses, Setup setup, std::uint64_t seed, do
   return scene;
 }
 
-CalibrationResult Run(const Dataset& dataset, Method method = Method::kJoint) {
+CalibrationResult Run(const Dataset& dataset, Method method = Method::kJoint, int threads = 1) {
   CalibrationOptions options;
   options.method = method;
+  options.threads = threads;
   return Calibrate(dataset, options);
 }
 
@@ -300,8 +301,9 @@ TEST_CASE("Concurrent calibrations leave stdout open and agree", "[calibration][
     INFO("method " << MethodName(method));
     const Dataset first_copy = scene.dataset, second_copy = scene.dataset;
     CalibrationResult first, second;
-    std::thread first_thread([&] { first = Run(first_copy, method); });
-    std::thread second_thread([&] { second = Run(second_copy, method); });
+    // Two threads each: the setup checks' closed forms run on both.
+    std::thread first_thread([&] { first = Run(first_copy, method, 2); });
+    std::thread second_thread([&] { second = Run(second_copy, method, 2); });
     first_thread.join();
     second_thread.join();
 
@@ -331,8 +333,10 @@ TEST_CASE("No method writes to stdout, and stdout works after ViSP's", "[calibra
   REQUIRE(dup2(fileno(capture), STDOUT_FILENO) >= 0);
   const auto captured_file = StdoutFile();
   // ViSP prints through printf and std::cout; it is also an initialisation
-  // candidate of the joint and per-camera methods.
-  for (Method method : {Method::kJoint, Method::kPerCamera, Method::kVisp}) Run(scene.dataset, method);
+  // candidate of the joint and per-camera methods, and the setup checks run
+  // it on several threads at once.
+  for (Method method : {Method::kJoint, Method::kPerCamera, Method::kVisp})
+    Run(scene.dataset, method, 2);
   std::cout.flush();
   std::fflush(stdout);
   std::fseek(capture, 0, SEEK_END);

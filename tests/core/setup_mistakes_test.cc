@@ -44,7 +44,7 @@ SyntheticScene Scene(Setup setup, std::uint64_t seed, int poses = 16, double rob
 // The judgement on a dataset, as Calibrate() makes it before the solve.
 internal::SetupVerdict Judge(const Dataset& dataset) {
   const internal::Problem problem = internal::BuildProblem(dataset, CalibrationOptions());
-  return internal::JudgeSetup(problem);
+  return internal::JudgeSetup(problem, 2);
 }
 
 // Calibrate() with default options must refuse with a message containing every `words`.

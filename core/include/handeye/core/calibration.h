@@ -31,10 +31,10 @@ enum class Method {
   kShah, kLi,  ///< OpenCV calibrateRobotWorldHandEye, per camera
   /// ViSP vpHandEyeCalibration, per camera (also one of the initialisation's
   /// candidates for every reprojection method). ViSP 3.5 always prints, so
-  /// around that call std::cout's buffer and C's `stdout` stream are swapped
-  /// for sinks, one call at a time (a process-wide lock): what other threads
-  /// print through std::cout or stdout meanwhile is lost. File descriptor 1
-  /// is never touched.
+  /// while any thread is in that call std::cout's buffer and C's `stdout`
+  /// stream are swapped for sinks (the first call in swaps them, the last out
+  /// puts them back): what other threads print through std::cout or stdout
+  /// meanwhile is lost. File descriptor 1 is never touched.
   kVisp,
 };
 /// The `--method` name of a method, e.g. "joint".
@@ -148,7 +148,8 @@ struct CalibrationOptions {
   /// more than these in an iteration (or Ceres' own tolerances are met).
   double step_tolerance_mm = 1e-4;
   double step_tolerance_deg = 1e-5;
-  /// Threads for Ceres.
+  /// Threads for Ceres, the setup checks' closed forms and the closed-form
+  /// comparison of every camera.
   int threads = 1;
   /// IntrinsicsGroup flags: those intrinsics of every camera become unknowns
   /// of the joint solve, started from the given values (joint method only).

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
-// The one pool of worker threads that detection, rendering and the report
-// share: one image per worker in memory at a time. Internal (io/parallel/CMakeLists.txt).
+// The one pool of worker threads that detection, rendering, the report and the
+// solver's setup checks share: one image per worker in memory at a time.
+// Internal (parallel/CMakeLists.txt).
 
 #include <cstddef>
 #include <functional>
