@@ -157,10 +157,8 @@ std::vector<Region> PatchRegions(const std::vector<GridPatch>& patches, int long
 /// The grid of `cols` x `rows` corners (either way round) within `lattice`
 /// (corners of the half-resolution image) that refines and verifies on the
 /// full image (RefineGrid); nullopt when there is none, or more than one
-/// (a larger pattern than the target's). `*window` is set when the lattice
-/// holds all the corners of such a grid but at most one, verified or not.
-std::optional<Grid> GridInLattice(const cv::Mat& gray, const Lattice& lattice, int cols, int rows,
-                                  bool* window) {
+/// (a larger pattern than the target's).
+std::optional<Grid> GridInLattice(const cv::Mat& gray, const Lattice& lattice, int cols, int rows) {
   std::optional<Grid> only;
   for (const bool across : {false, true}) {
     if (across && cols == rows) break;
@@ -172,11 +170,11 @@ std::optional<Grid> GridInLattice(const cv::Mat& gray, const Lattice& lattice, i
         grid.cols = cols;
         grid.rows = rows;
         grid.px.resize(static_cast<std::size_t>(cols) * rows);
-        int missing = 0;
+        bool missing = false;
         for (int b = 0; b < height; ++b) {
           for (int a = 0; a < width; ++a) {
             const std::size_t node = static_cast<std::size_t>(b0 + b) * lattice.cols + (a0 + a);
-            missing += lattice.found[node] == 0;
+            missing |= lattice.found[node] == 0;
             // Half pixel k has its centre at 2k + 0.5 in the full image.
             const cv::Point& p = lattice.points[node];
             const std::size_t k = across ? static_cast<std::size_t>(a) * cols + b
@@ -184,8 +182,7 @@ std::optional<Grid> GridInLattice(const cv::Mat& gray, const Lattice& lattice, i
             grid.px[k] = cv::Point2f(2.0f * p.x + 0.5f, 2.0f * p.y + 0.5f);
           }
         }
-        if (missing <= 1) *window = true;
-        if (missing > 0 || !RefineGrid(gray, &grid)) continue;
+        if (missing || !RefineGrid(gray, &grid)) continue;
         if (only) return std::nullopt;
         only = std::move(grid);
       }
@@ -218,9 +215,10 @@ std::optional<Grid> GridInLattice(const cv::Mat& gray, const Lattice& lattice, i
 /// image). A crop costs a few ms where the whole image costs 25, 70 or 285 ms
 /// (1/4, 1/2, full resolution of 1920x1080), so the common case is a crop at
 /// 1/4 plus the refinement on the board's bounding box. The whole image is
-/// still searched at 1/4 and 1/2 when the crops fail: the sector detector is
-/// not monotonic in what it is shown, and it found boards in whole images (10
-/// px squares, some oblique views) that it missed in crops around them. The
+/// searched only where the saddle points cannot say where a board is (an
+/// image too small for them, a board too small for a patch of grid); before
+/// the patches of grid and their lattices, it found boards (10 px squares,
+/// some oblique views) that crops missed, but since then none (see below). The
 /// full-resolution whole image, a quarter of a second, is searched only where
 /// it is the first level (an image too small for coarser ones).
 ///
@@ -297,9 +295,9 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
   std::optional<std::vector<internal::SaddlePoint>> saddles;
   std::optional<std::vector<Region>> saddle_regions;
   std::vector<Region> patch_regions;
-  // A lattice held the board's grid of corners (all but at most one), which
-  // did not verify.
-  bool lattice_window = false;
+  // The patches of grid said where a board may be (see the whole-image
+  // search below).
+  bool located = false;
   if (std::min(gray.cols, gray.rows) / 2 >= kMinLevelSide) {
     saddles = internal::FindSaddlePoints(level_of(2).image, internal::SaddleRegionOptions{});
     // The cascade's first stage: without a patch of grid among the saddle
@@ -315,9 +313,9 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
       // crops and levels below are for the rest).
       for (const Lattice& lattice :
            GrowLattices(*saddles, patches, patch, 4 * static_cast<std::size_t>(cols) * rows))
-        if (std::optional<Grid> found = GridInLattice(gray, lattice, cols, rows, &lattice_window))
-          return found;
+        if (std::optional<Grid> found = GridInLattice(gray, lattice, cols, rows)) return found;
       patch_regions = PatchRegions(patches, std::max(cols, rows));
+      located = true;
     }
   }
   auto covered = [&](const cv::Rect& region, std::size_t num_candidates) {
@@ -376,10 +374,9 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
       candidates.resize(before);
     }
     // Then where the saddle points are; grids rejected there become
-    // candidates.
-    // A cluster spread over the whole image (clutter everywhere) makes its
-    // crop the image itself, searched thoroughly: the whole-image search
-    // below would repeat it.
+    // candidates. A cluster spread over the whole image (clutter everywhere)
+    // makes its crop the image itself, searched thoroughly: the whole-image
+    // search below would repeat it.
     bool whole_searched = false;
     if (saddle_regions) {
       for (const Region& cluster : *saddle_regions) {
@@ -390,19 +387,17 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
         whole_searched |= region.area() >= kWholeImageShare * whole_image.area();
       }
     }
-    // The whole image, but not at full resolution once a coarser level was
-    // searched whole (only an image too small for coarser levels is searched
-    // whole at full resolution), and not at all once a lattice held the
-    // board's corners (all but at most one) and they did not verify: a board
-    // seen too obliquely or too small to refine (on METRIC, 6 images at
-    // 0.1-0.9 s each of whole-image searches that found none of them; on 11
-    // rendered cells and the METRIC-like preset as captured, 980 views,
-    // skipping them lost no view). The full-resolution search, 285 ms of
-    // 1920x1080, found no board on METRIC (1004 images), the METRIC-like
-    // preset (608), three rendered cells (480) nor ViSP's Franka chessboard
-    // set (8): the boards it could find are found in crops or at 1/2, and the
-    // images it ran on (a small oblique board in clutter) took 0.38-0.41 s.
-    if ((f > 1 || first) && !lattice_window && !whole_searched) {
+    // The whole image, only where nothing says where a board may be (an image
+    // too small for the saddle points, a board too small for a patch of
+    // grid), and not at full resolution once a coarser level was searched
+    // whole. Where patches of grid were found, the whole image at 1/4 and 1/2
+    // after the crops found no board in 115 searches: METRIC (1004 images,
+    // none searched whole), the METRIC-like capture (1004), the rendered
+    // small, medium, large and noisy cells, ViSP's and industrial_calibration's
+    // sets, the checkerboard by view angle (seeds 1, 3, 5; 600 views, all
+    // found as before). They cost 90-100 ms of wall per image where they ran
+    // (clutter, or a board too oblique to verify).
+    if (!located && (f > 1 || first) && !whole_searched) {
       const int whole_flags = first && f > 1 ? quick : thorough;
       if (search(level, whole_image, whole_flags) == Outcome::kFound) return grid;
     }
