@@ -59,11 +59,11 @@ struct Level {
 /// A grid that was found but rejected: the full-image region around it.
 struct Candidate {
   cv::Rect region;
-  /// The accurate search (CALIB_CB_ACCURACY) found a grid here too, and it
-  /// did not verify either: not a grid shifted by one line, which that
-  /// search mends, but a board too oblique or too blurred to refine, which
-  /// no finer level's search changes (RefineGrid always refines on the full
-  /// image). Not searched again.
+  /// The accurate search (CALIB_CB_ACCURACY) found a grid here too, or the
+  /// lattice of saddle points held it, and it did not verify either: not a
+  /// grid shifted by one line, which that search mends, but a board too
+  /// oblique or too blurred to refine, which no finer level's search changes
+  /// (RefineGrid always refines on the full image). Not searched again.
   bool settled = false;
 };
 
@@ -77,6 +77,11 @@ struct Region {
   /// Already searched (patch regions are searched at one level).
   bool searched = false;
 };
+
+/// Whether two regions share more than half of the smaller one.
+bool Overlap(const cv::Rect& a, const cv::Rect& b) {
+  return 2 * (a & b).area() > std::min(a.area(), b.area());
+}
 
 /// `region` grown by a margin for the outer squares and the sheet's white
 /// border, and for the border that the sector detector ignores at a level of
@@ -157,8 +162,11 @@ std::vector<Region> PatchRegions(const std::vector<GridPatch>& patches, int long
 /// The grid of `cols` x `rows` corners (either way round) within `lattice`
 /// (corners of the half-resolution image) that refines and verifies on the
 /// full image (RefineGrid); nullopt when there is none, or more than one
-/// (a larger pattern than the target's).
-std::optional<Grid> GridInLattice(const cv::Mat& gray, const Lattice& lattice, int cols, int rows) {
+/// (a larger pattern than the target's). The bounding box of each window of
+/// the lattice that holds such a grid whole but does not verify is added to
+/// `*refused`.
+std::optional<Grid> GridInLattice(const cv::Mat& gray, const Lattice& lattice, int cols, int rows,
+                                  std::vector<cv::Rect>* refused) {
   std::optional<Grid> only;
   for (const bool across : {false, true}) {
     if (across && cols == rows) break;
@@ -182,7 +190,12 @@ std::optional<Grid> GridInLattice(const cv::Mat& gray, const Lattice& lattice, i
             grid.px[k] = cv::Point2f(2.0f * p.x + 0.5f, 2.0f * p.y + 0.5f);
           }
         }
-        if (missing || !RefineGrid(gray, &grid)) continue;
+        if (missing) continue;
+        const cv::Rect box = cv::boundingRect(grid.px);
+        if (!RefineGrid(gray, &grid)) {
+          refused->push_back(box);
+          continue;
+        }
         if (only) return std::nullopt;
         only = std::move(grid);
       }
@@ -243,6 +256,8 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
   grid.cols = cols;
   grid.rows = rows;
   std::vector<Candidate> candidates;
+  // The grids of corners the lattices held whole that did not verify.
+  std::vector<cv::Rect> refused;
 
   // One search of `region` (full-image pixels) of one level: found (refined
   // and verified), nothing found, or a grid found but rejected, which is then
@@ -272,13 +287,15 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
     const Grid seen = grid;
     if (RefineGrid(gray, &grid)) return Outcome::kFound;
 
-    const double square = MedianSquare(seen);
-    const cv::Rect around = WithMargin({cv::boundingRect(seen.px), square}, f, whole_image);
+    const cv::Rect box = cv::boundingRect(seen.px);
+    const cv::Rect around = WithMargin({box, MedianSquare(seen)}, f, whole_image);
     // The same board rejected again (at another level) is searched once.
     for (const Candidate& c : candidates)
-      if (2 * (c.region & around).area() > std::min(c.region.area(), around.area()))
-        return Outcome::kRejected;
-    candidates.push_back({around});
+      if (Overlap(c.region, around)) return Outcome::kRejected;
+    // Where a lattice held it and it did not refine, it is settled at once.
+    bool settled = false;
+    for (const cv::Rect& r : refused) settled |= Overlap(r, box);
+    candidates.push_back({around, settled});
     return Outcome::kRejected;
   };
 
@@ -313,7 +330,8 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
       // crops and levels below are for the rest).
       for (const Lattice& lattice :
            GrowLattices(*saddles, patches, patch, 4 * static_cast<std::size_t>(cols) * rows))
-        if (std::optional<Grid> found = GridInLattice(gray, lattice, cols, rows)) return found;
+        if (std::optional<Grid> found = GridInLattice(gray, lattice, cols, rows, &refused))
+          return found;
       patch_regions = PatchRegions(patches, std::max(cols, rows));
       located = true;
     }
@@ -321,7 +339,7 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
   auto covered = [&](const cv::Rect& region, std::size_t num_candidates) {
     for (std::size_t k = 0; k < num_candidates; ++k) {
       const cv::Rect& c = candidates[k].region;
-      if (2 * (c & region).area() > std::min(c.area(), region.area())) return true;
+      if (Overlap(c, region)) return true;
     }
     return false;
   };
