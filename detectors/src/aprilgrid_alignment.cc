@@ -37,12 +37,28 @@ constexpr int kPieceReachPx = 3, kMinPieces = 3;
 /// any other) was refused for its one decoded tag's corners, a tenth of the
 /// side off; a tag placed elsewhere is off by a whole side.
 constexpr double kSeedTolerance = 0.1, kSeedContradiction = 0.5;
-/// What an outline must hold to be tried (LooksLikeGrid).
+/// What an outline must hold to be tried (LooksLikeGrid): the sheet's, and
+/// the dark network's inside its margin (on rendered oblique views 59-83 %
+/// of its pixels not bright, at a grey-level σ of 37-51; dark clutter, 80-100
+/// % and σ 3-15 mostly, falls under the σ bound).
 constexpr double kMinDarkFraction = 0.3, kMaxDarkFraction = 0.65, kMinGreySigma = 15;
+constexpr double kMinInsideDarkFraction = 0.4, kMaxInsideDarkFraction = 0.9;
+/// The white margin around the dark network: a band this wide just outside
+/// its outline, this share of it bright (MarginAround). On a white surface
+/// the bands of the networks were 94-98 % bright; those of 76 dark outlines
+/// of clutter in a rendered cell's 96 images mostly under 60 %.
+constexpr int kMarginBandPx = 2;
+constexpr double kMinMarginBright = 0.7;
 /// The short, smoothed alignment of every outline's turns, and the
-/// correlation after it for a turn to be aligned in full.
+/// correlation after it for a turn to be aligned in full: the sheet's
+/// outline, and the dark network's inside the margin (on rendered views at
+/// 60-75 degrees the turns that then lined up at 0.4 or more had reached
+/// 0.42-0.73 coarsely, the others 0.05-0.33; one full alignment of a wrong
+/// outline cost a METRIC image with no grid 0.27 s).
 constexpr int kCoarseIterations = 10;
-constexpr double kMinCoarseCorrelation = 0.05;
+constexpr double kMinCoarseCorrelation = 0.05, kMinInsideCoarseCorrelation = 0.2;
+/// How much larger than an outline the sheet it implies may be (AlignFromOutlines).
+constexpr double kMaxSheetToOutline = 2.0;
 /// The blurs tried for the image (Predict), px.
 constexpr double kMinBlurPx = 0.2, kMaxBlurPx = 2.6, kBlurStepPx = 0.3;
 /// The alignment of a tag's neighbourhood (LocalCorners): its iterations,
@@ -209,7 +225,8 @@ std::optional<double> GridCorrelation(const AprilGridTarget& target, const cv::M
 /// views the sheets' outlines held 40-53 % dark pixels at a grey-level σ of
 /// 36-66; 37 of the 48 outlines in 40 of METRIC's images (no grid in them)
 /// fall outside the bounds below.
-bool LooksLikeGrid(const cv::Mat& gray, const cv::Mat& bright, const std::vector<cv::Point>& quad) {
+bool LooksLikeGrid(const cv::Mat& gray, const cv::Mat& bright, const std::vector<cv::Point>& quad,
+                   double min_dark, double max_dark) {
   const cv::Rect box = cv::boundingRect(quad) & cv::Rect(0, 0, gray.cols, gray.rows);
   if (box.empty()) return false;
   cv::Mat inside = cv::Mat::zeros(box.size(), CV_8U);
@@ -221,7 +238,28 @@ bool LooksLikeGrid(const cv::Mat& gray, const cv::Mat& bright, const std::vector
   const double dark = static_cast<double>(cv::countNonZero((bright(box) == 0) & inside)) / pixels;
   cv::Scalar mean, sigma;
   cv::meanStdDev(gray(box), mean, sigma, inside);
-  return dark >= kMinDarkFraction && dark <= kMaxDarkFraction && sigma[0] >= kMinGreySigma;
+  return dark >= min_dark && dark <= max_dark && sigma[0] >= kMinGreySigma;
+}
+
+/// Whether the band kMarginBandPx wide just outside `quad` is mostly bright
+/// (`bright`: the image's bright regions), as the white margin around the
+/// tags is.
+bool MarginAround(const cv::Mat& bright, const std::vector<cv::Point>& quad) {
+  const int reach = kMarginBandPx + 1;
+  const cv::Rect box = cv::Rect(cv::boundingRect(quad).tl() - cv::Point(reach, reach),
+                                cv::boundingRect(quad).br() + cv::Point(reach, reach)) &
+                       cv::Rect(0, 0, bright.cols, bright.rows);
+  if (box.empty()) return false;
+  cv::Mat inside = cv::Mat::zeros(box.size(), CV_8U), grown;
+  std::vector<cv::Point> local;
+  for (const cv::Point& corner : quad) local.push_back(corner - box.tl());
+  cv::fillConvexPoly(inside, local, 255);
+  cv::dilate(inside, grown,
+             cv::getStructuringElement(cv::MORPH_ELLIPSE,
+                                       cv::Size(2 * kMarginBandPx + 1, 2 * kMarginBandPx + 1)));
+  const cv::Mat band = grown & ~inside;
+  const int pixels = cv::countNonZero(band);
+  return pixels > 0 && cv::countNonZero(band & bright(box)) >= kMinMarginBright * pixels;
 }
 
 double ContourHullArea(const std::vector<cv::Point>& contour) {
@@ -266,46 +304,84 @@ std::vector<std::vector<cv::Point>> JoinedPieces(
   return out;
 }
 
-/// Quadrilaterals that may outline the sheet: bright regions (its white
-/// margin and gaps, against what is behind it) whose area suits a grid of
-/// tags too small to decode, largest first.
-std::vector<std::array<Eigen::Vector2d, 4>> Outlines(const cv::Mat& gray,
-                                                     const AprilGridTarget& target) {
-  cv::Mat bright;
-  cv::adaptiveThreshold(gray, bright, 255, cv::ADAPTIVE_THRESH_MEAN_C, cv::THRESH_BINARY,
-                        kThresholdBlockPx, -kThresholdOffset);
-  // Every contour, holes included: the sheet is often a hole in what is behind it.
-  std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(bright, contours, cv::RETR_LIST, cv::CHAIN_APPROX_SIMPLE);
-  const Eigen::Vector2d sheet_m = target.Extent().sizes();
-  const double tags_in_sheet = sheet_m.prod() / (target.tag_size_m() * target.tag_size_m());
-  std::vector<std::pair<double, std::array<Eigen::Vector2d, 4>>> found;
-  // A region whose hull is a quadrilateral of a plausible size, filled by
-  // it at least half, that looks like a grid inside.
+/// The part of the print inside its white margin: the tags and the black
+/// squares between them (see AprilGridTarget::Albedo), which blur into one
+/// dark network when the gaps are thin.
+Eigen::AlignedBox2d DarkPart(const AprilGridTarget& target) {
+  const Eigen::AlignedBox2d e = target.Extent();
+  const double gap_m = target.tag_spacing() * target.tag_size_m();
+  return Eigen::AlignedBox2d(e.min() + Eigen::Vector2d::Constant(gap_m),
+                             e.max() - Eigen::Vector2d::Constant(gap_m));
+}
+
+/// A quadrilateral in the image (clockwise) that may outline `part` of the sheet.
+struct Outline {
+  std::array<Eigen::Vector2d, 4> corners;
+  Eigen::AlignedBox2d part;
+};
+
+/// Quadrilaterals that may outline `part` of the sheet, largest first: the
+/// hulls of `contours` (each filling its hull at least half) and of pieces
+/// of them joined (JoinedPieces) that are quadrilaterals of an area that suits a grid of
+/// tags too small to decode, and look like a grid inside (`bright`: the
+/// image's bright regions), with a bright `margin` around them if asked.
+std::vector<Outline> QuadOutlines(const cv::Mat& gray, const cv::Mat& bright,
+                                  const AprilGridTarget& target, const Eigen::AlignedBox2d& part,
+                                  double min_dark, double max_dark, bool margin,
+                                  const std::vector<std::vector<cv::Point>>& contours) {
+  const double tags_in_part = part.sizes().prod() / (target.tag_size_m() * target.tag_size_m());
+  std::vector<std::pair<double, Outline>> found;
   const auto consider = [&](const std::vector<cv::Point>& region) {
     std::vector<cv::Point> hull, quad;
     cv::convexHull(region, hull);
     const double area = cv::contourArea(hull);
-    const double tag_px = std::sqrt(area / tags_in_sheet);
+    const double tag_px = std::sqrt(area / tags_in_part);
     if (tag_px < kMinOutlineTagPx || tag_px > kMaxOutlineTagPx) return;
     cv::approxPolyDP(hull, quad, 0.03 * cv::arcLength(hull, true), true);
-    if (quad.size() != 4 || !LooksLikeGrid(gray, bright, quad)) return;
-    std::array<Eigen::Vector2d, 4> corners;
-    for (int k = 0; k < 4; ++k) corners[k] = Eigen::Vector2d(quad[k].x, quad[k].y);
-    found.emplace_back(area, corners);
+    if (quad.size() != 4 || !LooksLikeGrid(gray, bright, quad, min_dark, max_dark)) return;
+    if (margin && !MarginAround(bright, quad)) return;
+    Outline outline;
+    outline.part = part;
+    for (int k = 0; k < 4; ++k) outline.corners[k] = Eigen::Vector2d(quad[k].x, quad[k].y);
+    found.emplace_back(area, outline);
   };
   for (const auto& contour : contours)
     if (cv::contourArea(contour) >= 0.5 * ContourHullArea(contour)) consider(contour);
-  // The sheet in pieces (its margin lost across the tilt, or joined to
-  // something bright behind it): the gaps between its tags, each a bright
-  // strip, taken together.
+  // The part in pieces: for the sheet, its margin lost across the tilt or
+  // joined to something bright behind it, the gaps between its tags, each a
+  // bright strip; inside the margin, tags apart.
   for (const std::vector<cv::Point>& pieces : JoinedPieces(contours)) consider(pieces);
   std::sort(found.begin(), found.end(),
             [](const auto& a, const auto& b) { return a.first > b.first; });
-  std::vector<std::array<Eigen::Vector2d, 4>> outlines;
+  std::vector<Outline> outlines;
   for (std::size_t k = 0; k < found.size() && k < kMaxOutlines; ++k)
     outlines.push_back(found[k].second);
   return outlines;
+}
+
+/// Outlines of the whole sheet: bright regions (its white margin and gaps,
+/// against what is behind it). Every contour, holes included: the sheet is
+/// often a hole in what is behind it.
+std::vector<Outline> SheetOutlines(const cv::Mat& gray, const cv::Mat& bright,
+                                   const AprilGridTarget& target) {
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(bright, contours, cv::RETR_LIST, cv::CHAIN_APPROX_SIMPLE);
+  return QuadOutlines(gray, bright, target, target.Extent(), kMinDarkFraction, kMaxDarkFraction,
+                      false, contours);
+}
+
+/// Outlines of the part inside the margin: dark regions (the tags and the
+/// squares between them), for a sheet whose margin joins something bright
+/// behind it, so that it has no bright outline.
+std::vector<Outline> InsideOutlines(const cv::Mat& gray, const cv::Mat& bright,
+                                    const AprilGridTarget& target) {
+  cv::Mat dark;
+  cv::adaptiveThreshold(gray, dark, 255, cv::ADAPTIVE_THRESH_MEAN_C, cv::THRESH_BINARY_INV,
+                        kThresholdBlockPx, kThresholdOffset);
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(dark, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+  return QuadOutlines(gray, bright, target, DarkPart(target), kMinInsideDarkFraction,
+                      kMaxInsideDarkFraction, true, contours);
 }
 
 /// How many of the decoded tags have a corner more than `fraction` of their
@@ -351,33 +427,53 @@ std::optional<Eigen::Matrix3d> AlignFromSeeds(const AprilGridTarget& target, con
   return H;
 }
 
-/// With no tag decoded: each outline taken for the sheet's in each of its
-/// four turns, aligned; the alignment under which the data cells follow the
+/// With no tag decoded: each outline in each of its four turns, aligned
+/// coarsely, and in full in the `fine_turns` turns that line up best at
+/// `min_coarse` or more; the alignment under which the data cells follow the
 /// print clearly best.
-std::optional<Eigen::Matrix3d> AlignFromOutlines(const AprilGridTarget& target,
-                                                 const cv::Mat& gray) {
-  const Eigen::AlignedBox2d e = target.Extent();
-  const std::array<Eigen::Vector2d, 4> sheet = {
-      Eigen::Vector2d(e.min().x(), e.max().y()), Eigen::Vector2d(e.max().x(), e.max().y()),
-      Eigen::Vector2d(e.max().x(), e.min().y()), Eigen::Vector2d(e.min().x(), e.min().y())};
+std::optional<Eigen::Matrix3d> AlignFromOutlines(const AprilGridTarget& target, const cv::Mat& gray,
+                                                 const std::vector<Outline>& outlines,
+                                                 int fine_turns, double min_coarse) {
+  const auto corners = [](const Eigen::AlignedBox2d& e) {
+    return std::vector<Eigen::Vector2d>{
+        Eigen::Vector2d(e.min().x(), e.max().y()), Eigen::Vector2d(e.max().x(), e.max().y()),
+        Eigen::Vector2d(e.max().x(), e.min().y()), Eigen::Vector2d(e.min().x(), e.min().y())};
+  };
+  const std::vector<Eigen::Vector2d> sheet = corners(target.Extent());
   std::vector<std::pair<double, Eigen::Matrix3d>> aligned;
-  for (const auto& outline : Outlines(gray, target)) {
+  for (const Outline& outline : outlines) {
+    Eigen::AlignedBox2d outline_box;
+    for (const Eigen::Vector2d& corner : outline.corners) outline_box.extend(corner);
     std::optional<Frame> frame;
+    // A short smoothed alignment sorts the turns; the fine one is for the
+    // likely ones only, the `fine_turns` most likely.
+    std::vector<std::pair<double, Eigen::Matrix3d>> likely;
     for (int turn = 0; turn < 4; ++turn) {
-      // The outline runs clockwise in the image; the sheet's corners, seen
+      // The outline runs clockwise in the image; the part's corners, seen
       // from its printed side, the other way.
-      std::vector<Eigen::Vector2d> from(sheet.begin(), sheet.end()), to;
-      for (int k = 0; k < 4; ++k) to.push_back(outline[(turn + 4 - k) % 4]);
+      const std::vector<Eigen::Vector2d> from = corners(outline.part);
+      std::vector<Eigen::Vector2d> to;
+      for (int k = 0; k < 4; ++k) to.push_back(outline.corners[(turn + 4 - k) % 4]);
       const auto start = FitHomography(from, to);
       if (!start) continue;
+      // An outline of part of the sheet places the rest by extrapolation: a
+      // skewed one puts the sheet far beyond it (a 345 x 846 px frame from a
+      // 60 px outline of clutter, 0.4 s a coarse alignment). The sheet may
+      // be at most twice the outline's size.
+      const Eigen::AlignedBox2d sheet_box = ImageBox(*start, target.Extent());
+      if (!(sheet_box.sizes().array() <= kMaxSheetToOutline * outline_box.sizes().array()).all())
+        continue;
       if (!frame) frame = FrameFor(gray, target, *start);
       if (!frame) break;
-      // A short smoothed alignment sorts the turns; the fine one is for the
-      // likely ones only.
-      auto H = Align(gray, *frame, *start, 5, kCoarseIterations);
+      const auto H = Align(gray, *frame, *start, 5, kCoarseIterations);
       const auto coarse = H ? GridCorrelation(target, gray, *H) : std::nullopt;
-      if (!coarse || *coarse < kMinCoarseCorrelation) continue;
-      H = Align(gray, *frame, *H, 5, 50);
+      if (coarse && *coarse >= min_coarse) likely.emplace_back(*coarse, *H);
+    }
+    std::stable_sort(likely.begin(), likely.end(),
+                     [](const auto& a, const auto& b) { return a.first > b.first; });
+    if (likely.size() > static_cast<std::size_t>(fine_turns)) likely.resize(fine_turns);
+    for (const auto& [coarse, start] : likely) {
+      auto H = Align(gray, *frame, start, 5, 50);
       if (H) H = Align(gray, *frame, *H, 1, 50);
       if (!H) continue;
       if (const auto score = GridCorrelation(target, gray, *H)) aligned.emplace_back(*score, *H);
@@ -609,7 +705,20 @@ std::optional<GridAlignment> AlignGrid(const AprilGridTarget& target, const cv::
   // their corners, or one misread): the outlines, provided the decoded tags
   // mostly lie where they put them.
   if (!H) {
-    H = AlignFromOutlines(target, gray);
+    // The sheet's bright outline; where none lines up, the dark one inside
+    // its margin (the bright one joined to what lies behind the sheet).
+    cv::Mat bright;
+    cv::adaptiveThreshold(gray, bright, 255, cv::ADAPTIVE_THRESH_MEAN_C, cv::THRESH_BINARY,
+                          kThresholdBlockPx, -kThresholdOffset);
+    H = AlignFromOutlines(target, gray, SheetOutlines(gray, bright, target), 4,
+                          kMinCoarseCorrelation);
+    // Inside the margin the print's texture lines up in part in every turn
+    // (on a METRIC image with no grid in it all four passed the sheet's
+    // coarse test): only the turn that lines up best, and clearly, is aligned
+    // in full.
+    if (!H)
+      H = AlignFromOutlines(target, gray, InsideOutlines(gray, bright, target), 1,
+                            kMinInsideCoarseCorrelation);
     if (H && 3 * SeedsOff(target, seeds, *H, kSeedContradiction) > static_cast<int>(seeds.size()))
       H.reset();
   }

@@ -37,8 +37,9 @@ struct GridAlignment {
 /// Lines the rendered print up with `gray` (8-bit) by maximising their
 /// correlation (cv::findTransformECC), from the homography of the decoded
 /// `seeds`, or, with none (or seeds it does not line up: their corners more
-/// than a tenth of their side off), from each bright outline that may be the
-/// sheet's, in each of its four turns; an outline's alignment needs a third
+/// than a tenth of their side off), from each outline that may be the sheet's
+/// (bright: its margin; dark: its tags and the squares between them, inside
+/// the margin), in each of its four turns; an outline's alignment needs a third
 /// of the seeds or fewer more than half their side off (placed elsewhere),
 /// and a correlation of the grid's data cells
 /// with the print kMinGridLead ahead of any other's.

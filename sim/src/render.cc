@@ -29,6 +29,8 @@ bool RenderOptions::Check(std::string* why) const {
   if (!std::isfinite(black_level) || !std::isfinite(white_level) || black_level < 0 ||
       white_level > 255 || !(black_level < white_level))
     return fail("0 <= black_level < white_level <= 255");
+  if (!std::isfinite(background_level) || background_level < 0 || background_level > 255)
+    return fail("0 <= background_level <= 255");
   return true;
 }
 
@@ -201,9 +203,9 @@ bool SheetBoundingBox(const Camera& camera, const Target& target,
 /// Deterministic clutter: a shaded backdrop with shapes and lines of several
 /// grey levels and sizes, under a smooth illumination field, so detectors are
 /// tested against edges and corners that are not the target's.
-cv::Mat MakeBackground(int width, int height, bool clutter, std::uint64_t seed) {
-  if (!clutter) return cv::Mat(height, width, CV_32F, cv::Scalar(128.0));
-  cv::RNG rng(MixSeed(seed) | 1);
+cv::Mat MakeBackground(int width, int height, const RenderOptions& options) {
+  if (!options.clutter) return cv::Mat(height, width, CV_32F, cv::Scalar(options.background_level));
+  cv::RNG rng(MixSeed(options.seed) | 1);
   cv::Mat canvas(height, width, CV_8U);
   // Backdrop: a linear ramp between two grey levels in a random direction.
   {
@@ -383,7 +385,7 @@ cv::Mat RenderView(const Camera& camera, const Target& target,
   if (camera.width <= 0 || camera.height <= 0)
     throw std::invalid_argument("RenderView: camera has no image size");
 
-  cv::Mat image = MakeBackground(camera.width, camera.height, options.clutter, options.seed);
+  cv::Mat image = MakeBackground(camera.width, camera.height, options);
   const PlaneSampler sampler(target, T_cam_target, options.see_through);
   cv::Rect box;
   if (sampler.visible() && SheetBoundingBox(camera, target, T_cam_target, &box))

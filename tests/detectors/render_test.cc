@@ -5,8 +5,8 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
-#include <opencv2/imgproc.hpp>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "board_views.h"
 
@@ -52,6 +52,10 @@ TEST_CASE("RenderOptions::Check rejects bad values", "[render]") {
   options.white_level = 100;
   CHECK_FALSE(options.Check(&why));
   options = RenderOptions();
+  options.background_level = 256;
+  CHECK_FALSE(options.Check(&why));
+  CHECK(why.find("background_level") != std::string::npos);
+  options = RenderOptions();
   options.noise_sigma = -1;
   CHECK_FALSE(options.Check(&why));
   CHECK_THROWS_AS(RenderView(MakeTestCamera(64, 48, 50, {}), CheckerboardTarget(3, 2, 0.01),
@@ -91,7 +95,8 @@ TEST_CASE("Render pixel convention: a corner at an integer pixel is point-symmet
   CHECK(Pixel(image, u0 + 5, v0) == Approx(mid).margin(1));
 }
 
-TEST_CASE("Render draws the pattern on the printed face only, or through a glass sheet", "[render]") {
+TEST_CASE("Render draws the pattern on the printed face only, or through a glass sheet",
+          "[render]") {
   const Camera camera = MakeTestCamera(200, 150, 220.0, MildDistortion());
   const CheckerboardTarget board(4, 3, 0.04);
   RenderOptions options;  // clutter and noise on: the images must still match exactly
@@ -130,7 +135,7 @@ TEST_CASE("Render draws the pattern on the printed face only, or through a glass
   CHECK(front_area > 2000);
   CHECK(front_spread > 60);  // black and white squares
   CHECK(back_area > 2000);
-  CHECK(back_spread < 5);    // plain: sensor noise only
+  CHECK(back_spread < 5);  // plain: sensor noise only
   CHECK(glass_area > 2000);
   CHECK(glass_spread > 60);
 }

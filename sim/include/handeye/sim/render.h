@@ -29,8 +29,10 @@ struct RenderOptions {
   /// Grey levels of the target's black and white print.
   double black_level = 25.0;
   double white_level = 225.0;
-  /// Draw a cluttered background (otherwise flat mid grey).
+  /// Draw a cluttered background (otherwise flat, of `background_level`:
+  /// mid grey, or as white as the print for a sheet on a white surface).
   bool clutter = true;
+  double background_level = 128.0;
   /// A see-through (glass) target: seen from behind, its pattern shows
   /// mirrored. Otherwise a printed sheet, whose back is plain.
   bool see_through = false;
