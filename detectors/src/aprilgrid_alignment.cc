@@ -45,16 +45,16 @@ constexpr double kMinDarkFraction = 0.3, kMaxDarkFraction = 0.65, kMinGreySigma 
 constexpr double kMinInsideDarkFraction = 0.4, kMaxInsideDarkFraction = 0.9;
 /// The white margin around the dark network: a band this wide just outside
 /// its outline, this share of it bright (MarginAround). On a white surface
-/// the bands of the networks were 94-98 % bright; those of 76 dark outlines
-/// of clutter in a rendered cell's 96 images mostly under 60 %.
+/// the bands of the networks were 94-98 % bright; of the 76 dark outlines
+/// that looked like a grid in a rendered cell's 96 images, 70 under 70 %.
 constexpr int kMarginBandPx = 2;
 constexpr double kMinMarginBright = 0.7;
 /// The short, smoothed alignment of every outline's turns, and the
 /// correlation after it for a turn to be aligned in full: the sheet's
 /// outline, and the dark network's inside the margin (on rendered views at
 /// 60-75 degrees the turns that then lined up at 0.4 or more had reached
-/// 0.42-0.73 coarsely, the others 0.05-0.33; one full alignment of a wrong
-/// outline cost a METRIC image with no grid 0.27 s).
+/// 0.42-0.75 coarsely, 9 of the 12 others under 0.11; one full alignment of
+/// a wrong outline cost a METRIC image with no grid 0.27 s).
 constexpr int kCoarseIterations = 10;
 constexpr double kMinCoarseCorrelation = 0.05, kMinInsideCoarseCorrelation = 0.2;
 /// How much larger than an outline the sheet it implies may be (AlignFromOutlines).
