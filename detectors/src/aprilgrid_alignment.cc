@@ -220,6 +220,15 @@ std::optional<double> GridCorrelation(const AprilGridTarget& target, const cv::M
   return Pearson(seen, printed);
 }
 
+/// `quad` (image pixels) filled into a mask of `box` (CV_8U, 255 inside).
+cv::Mat QuadMask(const std::vector<cv::Point>& quad, const cv::Rect& box) {
+  cv::Mat mask = cv::Mat::zeros(box.size(), CV_8U);
+  std::vector<cv::Point> local;
+  for (const cv::Point& corner : quad) local.push_back(corner - box.tl());
+  cv::fillConvexPoly(mask, local, 255);
+  return mask;
+}
+
 /// Whether the inside of `quad` could be an AprilGrid: part bright, part
 /// dark (`bright`: the thresholded image), and not flat. On rendered oblique
 /// views the sheets' outlines held 40-53 % dark pixels at a grey-level σ of
@@ -229,10 +238,7 @@ bool LooksLikeGrid(const cv::Mat& gray, const cv::Mat& bright, const std::vector
                    double min_dark, double max_dark) {
   const cv::Rect box = cv::boundingRect(quad) & cv::Rect(0, 0, gray.cols, gray.rows);
   if (box.empty()) return false;
-  cv::Mat inside = cv::Mat::zeros(box.size(), CV_8U);
-  std::vector<cv::Point> local;
-  for (const cv::Point& corner : quad) local.push_back(corner - box.tl());
-  cv::fillConvexPoly(inside, local, 255);
+  const cv::Mat inside = QuadMask(quad, box);
   const int pixels = cv::countNonZero(inside);
   if (pixels == 0) return false;
   const double dark = static_cast<double>(cv::countNonZero((bright(box) == 0) & inside)) / pixels;
@@ -250,10 +256,8 @@ bool MarginAround(const cv::Mat& bright, const std::vector<cv::Point>& quad) {
                                 cv::boundingRect(quad).br() + cv::Point(reach, reach)) &
                        cv::Rect(0, 0, bright.cols, bright.rows);
   if (box.empty()) return false;
-  cv::Mat inside = cv::Mat::zeros(box.size(), CV_8U), grown;
-  std::vector<cv::Point> local;
-  for (const cv::Point& corner : quad) local.push_back(corner - box.tl());
-  cv::fillConvexPoly(inside, local, 255);
+  const cv::Mat inside = QuadMask(quad, box);
+  cv::Mat grown;
   cv::dilate(inside, grown,
              cv::getStructuringElement(cv::MORPH_ELLIPSE,
                                        cv::Size(2 * kMarginBandPx + 1, 2 * kMarginBandPx + 1)));
@@ -448,10 +452,10 @@ std::optional<Eigen::Matrix3d> AlignFromOutlines(const AprilGridTarget& target, 
     // A short smoothed alignment sorts the turns; the fine one is for the
     // likely ones only, the `fine_turns` most likely.
     std::vector<std::pair<double, Eigen::Matrix3d>> likely;
+    // The outline runs clockwise in the image; the part's corners, seen from
+    // its printed side, the other way.
+    const std::vector<Eigen::Vector2d> from = corners(outline.part);
     for (int turn = 0; turn < 4; ++turn) {
-      // The outline runs clockwise in the image; the part's corners, seen
-      // from its printed side, the other way.
-      const std::vector<Eigen::Vector2d> from = corners(outline.part);
       std::vector<Eigen::Vector2d> to;
       for (int k = 0; k < 4; ++k) to.push_back(outline.corners[(turn + 4 - k) % 4]);
       const auto start = FitHomography(from, to);
