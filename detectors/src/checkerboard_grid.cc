@@ -180,6 +180,25 @@ bool RefineGrid(const cv::Mat& gray, Grid* grid) {
   return true;
 }
 
+bool OneLineOff(const cv::Mat& gray, const Grid& grid) {
+  if (grid.cols < 3 || grid.rows < 3) return true;
+  // Each side in turn: the lines kept are [a0, a0 + cols) x [b0, b0 + rows).
+  const int sides[4][4] = {{1, 0, grid.cols - 1, grid.rows},
+                           {0, 0, grid.cols - 1, grid.rows},
+                           {0, 1, grid.cols, grid.rows - 1},
+                           {0, 0, grid.cols, grid.rows - 1}};
+  for (const auto& [a0, b0, cols, rows] : sides) {
+    Grid rest;
+    rest.cols = cols;
+    rest.rows = rows;
+    for (int b = 0; b < rows; ++b)
+      for (int a = 0; a < cols; ++a)
+        rest.px.push_back(grid.px[static_cast<std::size_t>(b0 + b) * grid.cols + a0 + a]);
+    if (RefineGrid(gray, &rest)) return true;
+  }
+  return false;
+}
+
 /// Median distance (px) between grid neighbours: the size of a square. The
 /// median, as a wrong grid may join a few corners of clutter far apart.
 double MedianSquare(const Grid& grid) {

@@ -26,6 +26,12 @@ bool LooksLikeXJunction(const cv::Mat& gray, const cv::Point2d& c, double radius
 /// a plane seen in perspective would put them.
 bool RefineGrid(const cv::Mat& gray, Grid* grid);
 
+/// True when `grid` less one of its four outer lines refines and verifies
+/// (RefineGrid): the rest of its corners are a board's, so the grid may be
+/// that board's shifted by one line. Grids of fewer than 3 lines a side have
+/// too few corners left to judge by and always count.
+bool OneLineOff(const cv::Mat& gray, const Grid& grid);
+
 /// Median distance (px) between grid neighbours: the size of a square.
 double MedianSquare(const Grid& grid);
 

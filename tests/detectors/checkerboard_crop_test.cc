@@ -199,3 +199,45 @@ TEST_CASE("Checkerboard: a board found in a crop has the points the whole image 
         (in_crop->points_px[k] + Eigen::Vector2d(crop.x, crop.y) - found->points_px[k]).norm());
   CHECK(largest < 0.01);
 }
+
+TEST_CASE("Grid refinement: a grid shifted by one line is told from one that is no board's",
+          "[checkerboard][cascade]") {
+  // OpenCV's search sometimes returns a board's grid shifted by one line onto
+  // the ends of its outer squares; the slower accurate search mends that, and
+  // is run only where the grid less one outer line is a board's.
+  const View view = ObliqueView(11);
+  const int cols = view.board->cols(), rows = view.board->rows();
+  const int wide = cols + 2;  // view.extended runs from corner -1 to cols (rows)
+  // The grid of cols x rows extended corners starting at corner (i0, j0).
+  auto grid_from = [&](int i0, int j0) {
+    internal::Grid grid;
+    grid.cols = cols;
+    grid.rows = rows;
+    for (int j = j0; j < j0 + rows; ++j)
+      for (int i = i0; i < i0 + cols; ++i) {
+        const Eigen::Vector2d& p = view.extended[static_cast<std::size_t>(j + 1) * wide + (i + 1)];
+        grid.px.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
+      }
+    return grid;
+  };
+  internal::Grid board = grid_from(0, 0);
+  CHECK(internal::OneLineOff(view.image, board));
+  REQUIRE(internal::RefineGrid(view.image, &board));
+  for (const auto& [i0, j0] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+    CAPTURE(i0, j0);
+    internal::Grid shifted = grid_from(i0, j0);
+    CHECK(internal::OneLineOff(view.image, shifted));
+    CHECK_FALSE(internal::RefineGrid(view.image, &shifted));
+  }
+  // Shifted across (one line each way) or by two lines, or corners of
+  // clutter: nothing the accurate search would mend.
+  CHECK_FALSE(internal::OneLineOff(view.image, grid_from(1, 1)));
+  CHECK_FALSE(internal::OneLineOff(view.image, grid_from(-1, -1)));
+  internal::Grid clutter;
+  clutter.cols = cols;
+  clutter.rows = rows;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> x(100, 1800), y(100, 1000);
+  for (int k = 0; k < cols * rows; ++k) clutter.px.emplace_back(x(rng), y(rng));
+  CHECK_FALSE(internal::OneLineOff(view.image, clutter));
+}
