@@ -6,7 +6,6 @@
 #include <complex>
 #include <cstdint>
 #include <limits>
-#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "corner_refinement.h"
@@ -100,10 +99,10 @@ bool FitsPerspective(const Grid& grid) {
   // and a fit to only four of them has no redundancy to judge by.
   if (wa * wb < 6) return true;
   const int n = wa * wb;
-  std::vector<cv::Point2f> board, seen(n);
+  std::vector<Eigen::Vector2d> board, seen(n);
   for (int b = 0; b < wb; ++b)
-    for (int a = 0; a < wa; ++a) board.emplace_back(static_cast<float>(a), static_cast<float>(b));
-  std::vector<cv::Point2f> board_others(n - 1), seen_others(n - 1), predicted;
+    for (int a = 0; a < wa; ++a) board.emplace_back(a, b);
+  std::vector<Eigen::Vector2d> board_others(n - 1), seen_others(n - 1);
   for (int b0 = 0; b0 + wb <= grid.rows; ++b0) {
     for (int a0 = 0; a0 + wa <= grid.cols; ++a0) {
       double side_sum = 0;
@@ -111,7 +110,7 @@ bool FitsPerspective(const Grid& grid) {
       for (int b = 0; b < wb; ++b) {
         for (int a = 0; a < wa; ++a) {
           const cv::Point2d p = grid.At(a0 + a, b0 + b);
-          seen[b * wa + a] = cv::Point2f(static_cast<float>(p.x), static_cast<float>(p.y));
+          seen[b * wa + a] = Eigen::Vector2d(p.x, p.y);
           if (a + 1 < wa) side_sum += cv::norm(grid.At(a0 + a + 1, b0 + b) - p), ++sides;
           if (b + 1 < wb) side_sum += cv::norm(grid.At(a0 + a, b0 + b + 1) - p), ++sides;
         }
@@ -125,10 +124,9 @@ bool FitsPerspective(const Grid& grid) {
         }
         // Plain least squares: a wrong corner among the others must show as
         // an error, not be voted away.
-        const cv::Mat H = cv::findHomography(board_others, seen_others, 0);
-        if (H.empty()) return false;
-        cv::perspectiveTransform(std::vector<cv::Point2f>{board[k]}, predicted, H);
-        if (!(cv::norm(predicted[0] - seen[k]) <= tolerance)) return false;
+        const std::optional<Eigen::Matrix3d> H = FitHomographyFast(board_others, seen_others);
+        if (!H) return false;
+        if (!((ApplyHomography(*H, board[k]) - seen[k]).norm() <= tolerance)) return false;
       }
     }
   }
