@@ -301,14 +301,15 @@ std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> ClosedFormHandEye
   }
 }
 
-std::vector<NamedClosedForm> SilentClosedForms(const Problem& problem, int camera,
-                                               std::string* why) {
+std::vector<NamedClosedForm> SilentClosedForms(const Problem& problem, int camera, std::string* why,
+                                               ClosedForms which) {
   // Park (rotation on the Lie group), Tsai (rotation axes) and ViSP (Tsai's
   // rotation refined by virtual visual servoing, the paper's initialisation)
   // fail in different ways on poor motion sets. None of them prints (ViSP's
   // output is dropped by SilencedStdout).
   std::vector<NamedClosedForm> solved;
   for (const Method method : {Method::kPark, Method::kTsai, Method::kVisp}) {
+    if (method == Method::kVisp && which == ClosedForms::kOpenCvOnly) continue;
     std::string failed;
     if (auto one = ClosedFormHandEye(problem, camera, method, &failed))
       solved.push_back({MethodName(method), one->first, one->second});
@@ -319,12 +320,12 @@ std::vector<NamedClosedForm> SilentClosedForms(const Problem& problem, int camer
 }
 
 std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> SilentClosedFormHandEye(
-    const Problem& problem, int camera, std::string* chosen, std::string* why) {
+    const Problem& problem, int camera, std::string* chosen, std::string* why, ClosedForms which) {
   // Keep the closed form whose chain explains this camera's views best.
   std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> best;
   double best_score = std::numeric_limits<double>::infinity();
   std::vector<std::optional<Eigen::Isometry3d>> T_cam_mount(problem.camera_views.size());
-  for (const NamedClosedForm& candidate : SilentClosedForms(problem, camera, why)) {
+  for (const NamedClosedForm& candidate : SilentClosedForms(problem, camera, why, which)) {
     T_cam_mount[camera] = candidate.T_cam_mount;
     const double score = MedianViewRms(problem, T_cam_mount, candidate.T_holder_target);
     if (!best || score < best_score) {

@@ -24,17 +24,24 @@ struct NamedClosedForm {
   Eigen::Isometry3d T_holder_target;
 };
 
-/// OpenCV's Park and Tsai and ViSP's closed forms on one camera, those that
-/// solve: the initialisation candidates of the reprojection solves, which must
-/// not print (ViSP's prints are dropped without touching fd 1). Empty with the
-/// reason in *why when none solves.
-std::vector<NamedClosedForm> SilentClosedForms(const Problem& problem, int camera,
-                                               std::string* why);
+/// Which closed forms SilentClosedForms runs: OpenCV's Park and Tsai and
+/// ViSP's, or only OpenCV's two. ViSP's is silenced under a process-wide lock,
+/// so calls on several threads wait for each other, and its virtual visual
+/// servoing costs several times the other two.
+enum class ClosedForms { kWithVisp, kOpenCvOnly };
+
+/// The closed forms `which` of one camera, those that solve: the
+/// initialisation candidates of the reprojection solves, which must not print
+/// (ViSP's prints are dropped without touching fd 1). Empty with the reason in
+/// *why when none solves.
+std::vector<NamedClosedForm> SilentClosedForms(const Problem& problem, int camera, std::string* why,
+                                               ClosedForms which = ClosedForms::kWithVisp);
 
 /// The best (median view RMS of the camera) of SilentClosedForms on one camera.
 /// `*chosen` names the method kept; nullopt with the reason in *why when none solves.
 std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> SilentClosedFormHandEye(
-    const Problem& problem, int camera, std::string* chosen, std::string* why);
+    const Problem& problem, int camera, std::string* chosen, std::string* why,
+    ClosedForms which = ClosedForms::kWithVisp);
 
 /// Linear AX = XB over the motions of all cameras at once (shared T_holder_target), for
 /// cameras whose own motions are too few for a per-camera solve.

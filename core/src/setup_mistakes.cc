@@ -126,8 +126,10 @@ Problem ScoringProblem(const Problem& problem) {
 }
 
 /// The records under `h` scored on `scoring`: a closed form per camera (the
-/// better of Park and Tsai, on a dozen diverse views), then the median over
-/// the scored views of their RMS through that camera's chain.
+/// better of Park and Tsai, on a dozen diverse views; ViSP's, which the
+/// initialisation also tries, was half of the CPU of a METRIC solve here, one
+/// call at a time under its lock), then the median over the scored views of
+/// their RMS through that camera's chain.
 Score ScoreOf(Problem scoring, const Hypothesis& h) {
   const Dataset& dataset = *scoring.dataset;
   const SetupFrames frames = FramesOf(dataset.setup);
@@ -143,7 +145,8 @@ Score ScoreOf(Problem scoring, const Hypothesis& h) {
   for (size_t k = 0; k < scoring.camera_views.size(); ++k) {
     if (scoring.camera_views[k].empty()) continue;
     std::string chosen, why;
-    const auto solved = SilentClosedFormHandEye(diverse, static_cast<int>(k), &chosen, &why);
+    const auto solved = SilentClosedFormHandEye(diverse, static_cast<int>(k), &chosen, &why,
+                                                ClosedForms::kOpenCvOnly);
     if (!solved) continue;
     ++score.cameras;
     score.camera_lever_m.push_back(solved->first.inverse().translation().norm());
