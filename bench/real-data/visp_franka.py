@@ -14,8 +14,8 @@ What the conversion assumes, from ViSP's tutorials
   reference frame: tx ty tz (m) and a theta-u rotation vector (rad) = T_base_ee.
 - franka_camera.xml: perspective projection without distortion (kud = 0).
 - eye-in-hand: a 9x6 inner-corner chessboard of 23.6 mm squares fixed in the cell.
-- eye-to-hand: one AprilTag 36h11 of 48 mm (its black square) on the flange:
-  an AprilGrid of one tag with a one-bit black border.
+- eye-to-hand: one AprilTag 36h11 of 48 mm (its black square) on the flange, id 10:
+  an AprilGrid of one tag with a one-bit black border and first_id 10.
 """
 import argparse
 import json
@@ -92,7 +92,7 @@ def main():
                                       0.001783530191, 0.009173747947, 1.581782359])),
         "eye-to-hand": ("data-eye-to-hand", "eye_to_hand",
                         {"type": "aprilgrid", "tags": [1, 1], "tag_size_m": 0.048, "tag_spacing": 0.3,
-                         "family": "tag36h11", "border_bits": 1},
+                         "family": "tag36h11", "border_bits": 1, "first_id": 10},
                         # rMc as ViSP's tutorial prints it: T_base_cam.
                         ("T_base_cam", [0.9540358034, -0.05123574465, 0.4762201018,
                                         -1.104108108, -1.112745553, 1.289540899])),

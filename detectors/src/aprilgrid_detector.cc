@@ -176,8 +176,21 @@ struct AprilGridDetector::Engine {
   apriltag_detector_t* detector = nullptr;
 };
 
+namespace {
+
+/// The target's options; without its own `min_corners`, a grid of one tag
+/// needs its four corners (the default of two tags' could never be met).
+AprilGridDetector::Options OptionsOf(const AprilGridTarget& target) {
+  AprilGridDetector::Options options = AprilGridDetector::Options::FromSpec(target.Spec());
+  if (!target.Spec().Has("min_corners"))
+    options.min_corners = std::min(options.min_corners, 4 * target.NumTags());
+  return options;
+}
+
+}  // namespace
+
 AprilGridDetector::AprilGridDetector(std::shared_ptr<const AprilGridTarget> target)
-    : AprilGridDetector(target, target ? Options::FromSpec(target->Spec()) : Options()) {}
+    : AprilGridDetector(target, target ? OptionsOf(*target) : Options()) {}
 
 AprilGridDetector::AprilGridDetector(std::shared_ptr<const AprilGridTarget> target,
                                      const Options& options)

@@ -304,3 +304,33 @@ TEST_CASE("aprilgrid first_id: a grid printed from another tag id on is found, o
   past_end.values["first_id"] = 585.0;
   CHECK_THROWS_AS(MakeAprilGridTarget(past_end), InputError);
 }
+
+TEST_CASE(
+    "aprilgrid of one tag (first_id, as ViSP's hand-eye samples print it) is found at any turn",
+    "[aprilgrid][first_id]") {
+  // Without a `min_corners` of its own, a view of a grid of one tag needs its
+  // four corners, not two tags' eight: ViSP's eye-to-hand set (a tag of id 10
+  // with a one-bit border) had no view found.
+  TargetSpec lone = GridSpec(1, 1, 0.3);
+  lone.values["first_id"] = 10.0;
+  lone.values["border_bits"] = 1.0;
+  const auto tag = MakeAprilGridTarget(lone);
+  const Camera camera = test::PinholeCamera(640, 480, 600);
+  RenderOptions render;
+  render.clutter = false;
+  const AprilGridDetector detector(tag);
+  for (const double spin : {0.0, 0.3, M_PI / 4, M_PI / 2, 2.0}) {
+    for (const double tilt : {0.0, 0.4}) {
+      CAPTURE(spin, tilt);
+      const Eigen::Isometry3d T =
+          test::ViewAt(camera, *tag, 320, 240, 600 * kTagM / 120, spin, tilt);
+      const auto detection = detector.Detect(RenderView(camera, *tag, T, render));
+      REQUIRE(detection);
+      REQUIRE(detection->ids.size() == 4);
+      for (std::size_t i = 0; i < 4; ++i)
+        CHECK((detection->points_px[i] -
+               *camera.Project(T * tag->FindPoint(detection->ids[i])->p_target))
+                  .norm() < 0.3);
+    }
+  }
+}

@@ -42,7 +42,8 @@ std::shared_ptr<const AprilGridTarget> MakeAprilGridTarget(const TargetSpec& spe
 class AprilGridDetector : public Detector {
  public:
   struct Options {
-    /// Fewest corners for a view (target key `min_corners`); 8 = two tags.
+    /// Fewest corners for a view (target key `min_corners`); 8 = two tags
+    /// (without the key, 4 for a grid of one tag).
     int min_corners = 8;
     /// Smallest distance of a tag corner from the image border, pixels
     /// (target key `min_border_px`; Kalibr's minBorderDistance is 4).
