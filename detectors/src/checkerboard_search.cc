@@ -153,13 +153,14 @@ std::vector<Region> PatchRegions(const std::vector<GridPatch>& patches, int long
   }
   std::stable_sort(sized.begin(), sized.end(),
                    [](const auto& a, const auto& b) { return a.first > b.first; });
-  // Each region costs a search; clutter may hold a few patches of its own.
-  constexpr std::size_t kMaxRegions = 8;
   std::vector<Region> regions;
-  for (const auto& entry : sized)
-    if (regions.size() < kMaxRegions) regions.push_back(entry.second);
+  for (const auto& entry : sized) regions.push_back(entry.second);
   return regions;
 }
+
+/// Patch regions searched (the first, with the most corners): each costs a
+/// search, and clutter may hold a few patches of its own.
+constexpr std::size_t kMaxPatchSearches = 8;
 
 /// The grid of `cols` x `rows` corners (either way round) within `lattice`
 /// (corners of the half-resolution image) that refines and verifies on the
@@ -363,12 +364,12 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
       saddle_regions = BoardRegions(*saddles, level_of(2).image.size());
       if (located) {
         // Where patches of grid say where a board may be, a cluster beyond
-        // every patch's reach (the patch and as many squares as the board
-        // may extend past it) is clutter: leaving those out changed no view
-        // of METRIC, the METRIC-like capture, six rendered cells, ViSP's
-        // eye-in-hand set or the checkerboard by view angle (seeds 1, 3, 5),
-        // and saved 14 crops (30-40 ms of wall) on the METRIC-like image
-        // that cost most.
+        // the reach of every patch, searched or not (the patch and as many
+        // squares as the board may extend past it), is clutter: leaving those
+        // out changed no view of METRIC, the METRIC-like capture, six
+        // rendered cells, ViSP's eye-in-hand set or the checkerboard by view
+        // angle (seeds 1, 3, 5), and saved 14 crops (30-40 ms of wall) on the
+        // METRIC-like image that cost most.
         std::vector<cv::Rect> reach;
         for (const Region& patch : patch_regions)
           reach.push_back(WithMargin(patch, 1, whole_image));
@@ -407,7 +408,8 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
     // candidates are put back), so that the searches below find the boards
     // they found without them. Searching the patches at finer levels as well
     // found no more boards on METRIC and cost 5 % more.
-    for (Region& patch : patch_regions) {
+    for (std::size_t k = 0; k < std::min(patch_regions.size(), kMaxPatchSearches); ++k) {
+      Region& patch = patch_regions[k];
       if (patch.searched || patch.square < kMinSaddleSpacingPx * f) continue;
       patch.searched = true;
       const std::uint64_t rng_state = cv::theRNG().state;
