@@ -16,6 +16,7 @@
 #include "aprilgrid_alignment.h"
 #include "corner_refinement.h"
 #include "handeye/core/error.h"
+#include "target_options.h"
 
 namespace handeye {
 namespace {
@@ -176,21 +177,8 @@ struct AprilGridDetector::Engine {
   apriltag_detector_t* detector = nullptr;
 };
 
-namespace {
-
-/// The target's options; without its own `min_corners`, a grid of one tag
-/// needs its four corners (the default of two tags' could never be met).
-AprilGridDetector::Options OptionsOf(const AprilGridTarget& target) {
-  AprilGridDetector::Options options = AprilGridDetector::Options::FromSpec(target.Spec());
-  if (!target.Spec().Has("min_corners"))
-    options.min_corners = std::min(options.min_corners, 4 * target.NumTags());
-  return options;
-}
-
-}  // namespace
-
 AprilGridDetector::AprilGridDetector(std::shared_ptr<const AprilGridTarget> target)
-    : AprilGridDetector(target, target ? OptionsOf(*target) : Options()) {}
+    : AprilGridDetector(target, target ? internal::OptionsOfTarget<Options>(*target) : Options()) {}
 
 AprilGridDetector::AprilGridDetector(std::shared_ptr<const AprilGridTarget> target,
                                      const Options& options)

@@ -17,6 +17,7 @@
 #include "corner_refinement.h"
 #include "grid_patch.h"
 #include "handeye/core/error.h"
+#include "target_options.h"
 
 namespace handeye {
 namespace {
@@ -281,7 +282,7 @@ struct CharucoDetector::OpenCvState {
 };
 
 CharucoDetector::CharucoDetector(std::shared_ptr<const CharucoTarget> target)
-    : CharucoDetector(target, target ? Options::FromSpec(target->Spec()) : Options()) {}
+    : CharucoDetector(target, target ? internal::OptionsOfTarget<Options>(*target) : Options()) {}
 
 CharucoDetector::CharucoDetector(std::shared_ptr<const CharucoTarget> target,
                                  const Options& options)
@@ -437,8 +438,11 @@ std::optional<Detection> CharucoDetector::Find(const cv::Mat& gray,
   // 12.3-14.1 ms per image, decoding included; an image with the board costs
   // the stage on top (bench_detect_targets: 25.4 -> 33.9 ms). Rendered cells
   // (7 of them, 128 views, blur up to 1.5 px, noise up to 8 grey levels) and
-  // bench_detect_targets gave the same views and points with it.
-  if (!internal::MayShowCornerGrid(gray, 2)) return std::nullopt;
+  // bench_detect_targets gave the same views and points with it. A board of
+  // 3 x 3 squares has no such block of corners: it goes without the stage.
+  const int inner_x = target_->squares_x() - 1, inner_y = target_->squares_y() - 1;
+  const bool has_block = std::max(inner_x, inner_y) >= 3 && std::min(inner_x, inner_y) >= 2;
+  if (has_block && !internal::MayShowCornerGrid(gray, 2)) return std::nullopt;
 
   std::vector<std::vector<cv::Point2f>> marker_corners, candidates;
   std::vector<int> marker_ids;

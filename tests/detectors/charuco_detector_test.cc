@@ -388,3 +388,32 @@ TEST_CASE("charuco too far to decode: a print of other markers, the other way ro
   CHECK(views.found >= 10);
   CHECK(views.wrong == 0);
 }
+
+TEST_CASE("charuco board with fewer than eight corners is found without a min_corners of its own",
+          "[charuco][small]") {
+  // The default of eight corners (and the first stage's 3 x 2 block of
+  // corners) could never be met by a board of 3 x 3 squares (four corners)
+  // or 4 x 3 (six, in a 3 x 2 block): such boards found nothing.
+  RenderOptions render;
+  render.clutter = false;
+  for (const auto& [sx, sy] : {std::pair<int, int>{3, 3}, {4, 3}, {3, 4}}) {
+    const auto board = MakeCharucoTarget(BoardSpec(sx, sy));
+    const CharucoDetector detector(board);
+    const std::size_t all = board->Points().size();
+    for (const auto& [width, height] : {std::pair<int, int>{640, 480}, {1280, 720}}) {
+      const Camera camera = test::PinholeCamera(width, height, 0.8 * width);
+      for (const double tilt : {0.0, 0.5}) {
+        CAPTURE(sx, sy, width, tilt);
+        const Eigen::Isometry3d T = test::ViewAt(camera, *board, width / 2.0, height / 2.0,
+                                                 0.8 * width * kMarkerM / 60, 0.3, tilt);
+        const auto detection = detector.Detect(RenderView(camera, *board, T, render));
+        REQUIRE(detection);
+        REQUIRE(detection->ids.size() == all);
+        for (std::size_t i = 0; i < all; ++i)
+          CHECK((detection->points_px[i] -
+                 *camera.Project(T * board->FindPoint(detection->ids[i])->p_target))
+                    .norm() < 0.3);
+      }
+    }
+  }
+}

@@ -53,7 +53,8 @@ struct CharucoRejection {
 class CharucoDetector : public Detector {
  public:
   struct Options {
-    /// Fewest corners for a view (target key `min_corners`).
+    /// Fewest corners for a view (target key `min_corners`; without the key,
+    /// every corner of a board with fewer than 8, e.g. 4 for 3 x 3 squares).
     int min_corners = 8;
     /// Largest distance between a refined corner and its prediction from the
     /// local homography, as a fraction of the square's size in the image, and
