@@ -300,8 +300,9 @@ std::optional<Grid> FindGrid(const cv::Mat& gray, int cols, int rows) {
       if (Overlap(c.region, around)) return Outcome::kRejected;
     // Where a lattice held it and it did not refine, or where it is no
     // board's grid shifted by one line, it is settled at once.
-    bool settled = !OneLineOff(gray, seen);
-    for (const cv::Rect& r : refused) settled |= Overlap(r, box);
+    const bool held = std::any_of(refused.begin(), refused.end(),
+                                  [&](const cv::Rect& r) { return Overlap(r, box); });
+    const bool settled = held || !OneLineOff(gray, seen);
     candidates.push_back({around, settled});
     return Outcome::kRejected;
   };
