@@ -186,6 +186,8 @@ ModelChoice CompareRobotModels(const Calibration& c, const Initialisation& init,
     a.points += exact[f].points;
   }
   b.points = a.points;
+  b.robot_sigma_mm = robot.sigma_m * 1000.0;
+  b.robot_sigma_deg = robot.sigma_rad * 180.0 / M_PI;
   if (a.points > 0) {
     a.held_out_rms_px = std::sqrt(sq_a / a.points);
     b.held_out_rms_px = std::sqrt(sq_b / b.points);

@@ -265,7 +265,11 @@ std::string ResultJson(const CalibrationResult& result) {
   if (result.solver.model) {
     nlohmann::ordered_json candidates = nlohmann::ordered_json::array();
     for (const ModelCandidate& m : result.solver.model->candidates)
-      candidates.push_back({{"name", m.name}, {"held_out_rms_px", m.held_out_rms_px}, {"points", m.points}});
+      candidates.push_back({{"name", m.name},
+                            {"held_out_rms_px", m.held_out_rms_px},
+                            {"points", m.points},
+                            {"robot_sigma_mm", m.robot_sigma_mm},
+                            {"robot_sigma_deg", m.robot_sigma_deg}});
     root["solver"]["model"] = {{"chosen", result.solver.model->chosen},
                                {"folds", result.solver.model->folds},
                                {"candidates", candidates}};
@@ -377,7 +381,11 @@ CalibrationResult LoadResult(const std::string& path) {
     const size_t n = candidates.ArraySize("an array of the robot models compared");
     for (size_t i = 0; i < n; ++i) {
       const JsonReader m = candidates.At(i);
-      choice.candidates.push_back({m.Key("name").String(), m.Key("held_out_rms_px").Number(), m.Key("points").Int(0)});
+      ModelCandidate candidate{m.Key("name").String(), m.Key("held_out_rms_px").Number(),
+                               m.Key("points").Int(0)};
+      if (m.Has("robot_sigma_mm")) candidate.robot_sigma_mm = m.Key("robot_sigma_mm").Number();
+      if (m.Has("robot_sigma_deg")) candidate.robot_sigma_deg = m.Key("robot_sigma_deg").Number();
+      choice.candidates.push_back(candidate);
     }
     result.solver.model = choice;
   }

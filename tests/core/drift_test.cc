@@ -153,4 +153,20 @@ TEST_CASE("check counts the new poses' robot error in its noise where the calibr
   CHECK(rms > 0.7);
   CHECK(rms < 1.3);
   CHECK(blind_rms > 1.5 * rms);
+
+  // Where held-out poses chose the exact robot over the model the views
+  // suggested, the model's σ stands for the new poses' error all the same.
+  CalibrationResult exact_chosen = blind;
+  ModelChoice choice;
+  choice.chosen = "exact robot";
+  choice.folds = 4;
+  choice.candidates = {{"exact robot", 0.2, 1000}, {"robot error modelled", 0.3, 1000, 0.1, 0.01}};
+  exact_chosen.solver.model = choice;
+  const Dataset later = Capture(8, 100).dataset;
+  const DriftResult modelled = CheckDrift(later, calibration, DriftOptions{});
+  const DriftResult chosen = CheckDrift(later, exact_chosen, DriftOptions{});
+  for (size_t i = 0; i < modelled.cameras.size(); ++i) {
+    CHECK(chosen.cameras[i].sigma_mm == Approx(modelled.cameras[i].sigma_mm));
+    CHECK(chosen.cameras[i].moved_mm == Approx(modelled.cameras[i].moved_mm));
+  }
 }

@@ -128,6 +128,15 @@ TEST_CASE("calibrate keeps the robot model on a rendered ChArUco cell where held
   CHECK(modelled > exact);
   CHECK(modelled < 1.25 * exact);
   CHECK(model["chosen"] == "robot error modelled");
+  // The σ each candidate assumes: none for the exact robot, the one the
+  // solver summary gives for the model it chose.
+  CHECK(model["candidates"][0]["robot_sigma_mm"].get<double>() == 0.0);
+  const nlohmann::json solver = ReadJsonFile(dir + "/result.json")["solver"];
+  CHECK(model["candidates"][1]["robot_sigma_mm"].get<double>() ==
+        solver["robot_sigma_mm"].get<double>());
+  CHECK(model["candidates"][1]["robot_sigma_deg"].get<double>() ==
+        solver["robot_sigma_deg"].get<double>());
+  CHECK(solver["robot_sigma_mm"].get<double>() > 0.0);
   REQUIRE(test::RunHandeye("calibrate " + dir + "/sim/dataset.json -o " + dir + "/exact.json --robot-sigma-mm 0 "
                            "--robot-sigma-deg 0",
                            &out) == 0);

@@ -332,6 +332,11 @@ struct ModelCandidate {
   std::string name;            ///< "exact robot" or "robot error modelled"
   double held_out_rms_px = 0;  ///< RMS of the left-out poses' points, predicted without them
   int points = 0;              ///< points predicted (the same for every candidate)
+  /// The robot's pose error this candidate assumes, σ per axis (0 for the
+  /// exact robot; for the model, the σ estimated from the views): where the
+  /// exact poses are chosen, `check` still counts this error in new poses.
+  double robot_sigma_mm = 0;
+  double robot_sigma_deg = 0;
 };
 
 /// Which robot model the joint solve used and why: where the views suggest
