@@ -69,20 +69,20 @@ std::pair<double, double> RobotSigmaOf(const SolverSummary& solver) {
 /// started at the calibrated one, how far it moved and the noise of that
 /// difference: the new estimate's σ and the calibration's own. Where the
 /// calibration saw the robot's pose error, each new pose is a block of the
-/// solve too, under its σ (RobotSigmaOf): an error a view's
-/// points share moves the camera found through it, and taken as independent
-/// per corner it was not in the check's noise (on rendered cells with robot
-/// error, unmoved cameras moved 2.9 times that σ; bench/leave-out).
+/// solve too, under its σ (RobotSigmaOf): an error a view's points share
+/// moves the camera found through it, and taken as independent per corner it
+/// was in no σ (on rendered cells with robot error, unmoved cameras had moved
+/// 3.4 times the check's σ; bench/leave-out).
 void EstimateAgain(const internal::Problem& problem, int k, const std::vector<int>& views,
                    const CameraResult& cam, const CalibrationResult& calibration, int threads,
                    CameraDrift* drift_out) {
   const Dataset& dataset = *problem.dataset;
   CameraDrift& drift = *drift_out;
   const auto [robot_mm, robot_deg] = RobotSigmaOf(calibration.solver);
-  const bool robot_modelled = robot_mm > 0;
+  const bool robot_error = robot_mm > 0;
   const internal::RobotPrior robot{robot_mm / 1000.0, robot_deg * M_PI / 180.0,
                                    internal::DetectionSigmaPx(problem)};
-  internal::ChainProblem chain(2 + (robot_modelled ? views.size() : 0), 0);
+  internal::ChainProblem chain(2 + (robot_error ? views.size() : 0), 0);
   ceres::Problem& ceres_problem = chain.problem();
   double* T_cam_mount = chain.AddPose(cam.T_cam.inverse());
   double* T_holder_target = chain.AddPose(calibration.T_target, true);
@@ -92,7 +92,7 @@ void EstimateAgain(const internal::Problem& problem, int k, const std::vector<in
     const internal::View& view = problem.views[v];
     auto points =
         std::make_shared<const ViewPoints>(ViewPoints{view.p_target, view.observation->points_px});
-    if (robot_modelled) {
+    if (robot_error) {
       double* T_mount_holder = chain.AddRobotPose(problem.T_mount_holder[view.pose],
                                                   dataset.poses[view.pose], dataset.setup, robot);
       blocks.push_back(ceres_problem.AddResidualBlock(
