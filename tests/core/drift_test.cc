@@ -121,7 +121,7 @@ TEST_CASE("check counts the new poses' robot error in its noise where the calibr
   // Robot poses 0.1 mm / 0.01° off: each new pose moves the camera found
   // through it rigidly (0.01° at 2-3 m is 0.4 mm), an error all of a view's
   // corners share. Taken as independent per corner, unmoved cameras moved
-  // 1.5 times the check's σ here (and 2.9 times on rendered cells).
+  // 1.5 times the check's σ here (and 3.4 times on rendered cells).
   CalibrationOptions given;
   given.robot_sigma_mm = 0.1;
   given.robot_sigma_deg = 0.01;
