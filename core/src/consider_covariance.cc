@@ -101,4 +101,10 @@ Eigen::VectorXd ConsiderCovariance::Shift(const double* a, double variance_facto
   return G * delta_c;
 }
 
+std::vector<int> ConsiderCovariance::Held(const double* block) const {
+  for (const Coordinates& c : consider_)
+    if (c.block == block) return c.tangent;
+  return {};
+}
+
 }  // namespace handeye::internal

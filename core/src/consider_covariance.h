@@ -67,6 +67,8 @@ class ConsiderCovariance {
   /// be with the inputs at what prior and views together say (−G δc is that
   /// move; only its outer product enters σ).
   Eigen::VectorXd Shift(const double* a, double variance_factor) const;
+  /// The tangent coordinates of `block` held as uncertain inputs (none where it has none).
+  std::vector<int> Held(const double* block) const;
 
  private:
   Eigen::MatrixXd Raw(const double* a, const double* b) const;

@@ -42,10 +42,13 @@ struct RobotPoseBlock {
 
 /// The joint solve's covariance at its solution (see refine_covariance.cc):
 /// fills `out`'s covariances and intrinsics σ; leaves them empty when the
-/// Jacobian is rank deficient.
+/// Jacobian is rank deficient. `at_pose`: the residual blocks of each robot
+/// pose (its views, their cross terms, its prior), whose scatter σ is
+/// widened to where the model's is smaller.
 void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_cam_mount,
                         double* T_holder_target, const std::vector<double*>& K,
                         const std::vector<ceres::ResidualBlockId>& views,
+                        const std::vector<std::vector<ceres::ResidualBlockId>>& at_pose,
                         const std::optional<RobotPrior>& robot,
                         const std::vector<RobotPoseBlock>& robot_poses,
                         ConsiderCovariance* covariance, int threads, Refinement* out);

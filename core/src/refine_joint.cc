@@ -38,6 +38,7 @@ struct JointBuild {
   std::map<std::pair<int, int>, double*> pairs;  // (k, t) -> T_camk_mount_via_t
   std::vector<RobotPoseBlock> robot_poses;
   std::vector<ceres::ResidualBlockId> direct;  // c_rpj, one per view
+  std::vector<std::vector<ceres::ResidualBlockId>> at_pose;  // each robot pose's residual blocks
   // For the covariance, the given intrinsics that stay held are uncertain
   // inputs too (ConsiderCovariance): unknowns of the problem under a prior.
   std::vector<ConsiderCovariance::Coordinates> uncertain_coordinates;
@@ -101,6 +102,7 @@ double* RobotPoseBlockOf(JointBuild* b, int j) {
       started ? *init.T_mount_holder[j] : b->problem.T_mount_holder[j],
       b->problem.dataset->poses[j], b->problem.dataset->setup, *b->robot, &prior);
   b->robot_poses.push_back({b->T_mount_holder[j], prior});
+  b->at_pose[j].push_back(prior);
   return b->T_mount_holder[j];
 }
 
@@ -123,7 +125,9 @@ ceres::ResidualBlockId AddView(JointBuild* b, const View& view, int k, double* c
   }
   blocks.push_back(b->T_holder_target);
   if (free_intrinsics) blocks.push_back(b->K[k]);
-  return b->chain.problem().AddResidualBlock(cost, nullptr, blocks);
+  const ceres::ResidualBlockId id = b->chain.problem().AddResidualBlock(cost, nullptr, blocks);
+  b->at_pose[view.pose].push_back(id);
+  return id;
 }
 
 /// c_rpj: every point of every used view (one block per view, the loss per
@@ -142,6 +146,7 @@ ceres::ResidualBlockId AddView(JointBuild* b, const View& view, int k, double* c
 void AddViews(JointBuild* b) {
   const Problem& problem = b->problem;
   b->T_mount_holder.assign(problem.dataset->poses.size(), nullptr);
+  b->at_pose.assign(problem.dataset->poses.size(), {});
   std::vector<std::vector<int>> views_at_pose(problem.dataset->poses.size());
   std::vector<std::shared_ptr<const ViewPoints>> points(problem.views.size());
   for (size_t v = 0; v < problem.views.size(); ++v) {
@@ -152,9 +157,9 @@ void AddViews(JointBuild* b) {
     b->direct.push_back(AddView(b, view, view.camera, b->T_cam_mount[view.camera], points[v]));
   }
   if (!b->options.cross_terms) return;
-  for (const auto& at_pose : views_at_pose)
-    for (int vk : at_pose)
-      for (int vt : at_pose) {
+  for (const auto& here : views_at_pose)
+    for (int vk : here)
+      for (int vt : here) {
         if (vk == vt) continue;
         const View& view_k = problem.views[vk];
         const int k = view_k.camera, t = problem.views[vt].camera;
@@ -244,8 +249,8 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
   if (step == JointStep::kCovariance) {
     ConsiderCovariance covariance(b.uncertain_coordinates, BlockDiagonal(b.uncertain_covariances),
                                   BlockDiagonal(b.uncertain_prior_information));
-    SolutionCovariance(&chain.problem(), b.T_cam_mount, b.T_holder_target, b.K, b.direct, robot,
-                       b.robot_poses, &covariance, options.threads, &out);
+    SolutionCovariance(&chain.problem(), b.T_cam_mount, b.T_holder_target, b.K, b.direct, b.at_pose,
+                       robot, b.robot_poses, &covariance, options.threads, &out);
   }
   return out;
 }
