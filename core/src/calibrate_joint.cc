@@ -156,49 +156,79 @@ constexpr int kModelFolds = 4;
 /// eye-in-hand set (8 poses) predicted its left-out views at 7.1 and 8.0 px
 /// either way, and choosing by that moved the camera 5.9 mm.
 constexpr int kModelChoiceMinPoses = 12;
-/// Held-out RMS within this factor of each other: the two models predict
-/// alike. On rendered cells with robot noise 0.1 mm / 0.01° (bench/robot-model,
-/// 6 seeds) the modelled solve's was 0.67-0.93 of the exact one's
-/// (checkerboard, AprilGrid) and 0.74-1.13 (ChArUco, whose views hold fewer
-/// points: where it was over 1, the exact robot was 1.6-1.9 times as far from
-/// the truth as the solve given the true sigma); with given intrinsics 1 % / 3
-/// px off, which the pose blocks take up, 1.5-3.7; on the
-/// industrial_calibration ChArUco set (real, intrinsics that do not fit) 2.1.
-constexpr double kModelsAlikeHeldOut = 1.25;
+/// Held-out RMS within this factor of each other: the candidates predict
+/// alike, and the model with the σ the views suggested stays. The issue's
+/// bar (issue 24): the default predicts no worse than any candidate by more
+/// than 5 %. Before the candidate at the solved poses' σ (below), a factor
+/// 1.25 kept the model on rendered ChArUco cells whose exact robot predicted
+/// 7-22 % better but was 1.6-1.9 times as far from the truth as the solve
+/// given the true σ; there the model at the solved poses' σ predicts best
+/// (0.113-0.131 px against the exact robot's 0.123-0.155). On METRIC with
+/// the principal points refined the three are within 4.1 % (the exact robot
+/// best, 0.629 mm from the ground truth against the model's 0.557 mm).
+constexpr double kModelsAlikeHeldOut = 1.05;
 constexpr char kExactRobot[] = "exact robot";
 constexpr char kRobotModelled[] = "robot error modelled";
+constexpr char kRobotSettled[] = "robot error modelled at the solved poses' σ";
 
-/// The held-out RMS of each candidate over the folds both could solve.
+/// The model under the σ the solved pose blocks showed (which the covariance
+/// then takes as it is: no sandwich).
+RobotPrior SettledPrior(const RobotPrior& robot) {
+  RobotPrior settled = robot;
+  settled.sigma_m = robot.settled_sigma_m;
+  settled.sigma_rad = robot.settled_sigma_rad;
+  return settled;
+}
+
+/// The held-out RMS of each candidate over the folds all could solve: the
+/// exact robot, the model under the σ estimated from the views (which errs
+/// wide on purpose) and, where the solved pose blocks showed another, the
+/// model under that σ (RobotPrior::settled_sigma_m: on the rendered cells
+/// of bench/robot-model 0.09-0.12 mm for a true 0.1 where the views
+/// suggested 0.16-0.28).
 ModelChoice CompareRobotModels(const Calibration& c, const Initialisation& init,
                                const CalibrationOptions& options, const RobotPrior& robot) {
-  const std::vector<FoldError> exact =
-      HeldOutErrors(c.problem, init, options, std::nullopt, kModelFolds);
-  const std::vector<FoldError> modelled =
-      HeldOutErrors(c.problem, init, options, robot, kModelFolds);
+  std::vector<std::optional<RobotPrior>> priors = {std::nullopt, robot};
+  std::vector<ModelCandidate> candidates = {{kExactRobot}, {kRobotModelled}};
+  if (robot.settled_sigma_m > 0 && robot.settled_sigma_rad > 0 &&
+      (robot.settled_sigma_m != robot.sigma_m || robot.settled_sigma_rad != robot.sigma_rad)) {
+    priors.push_back(SettledPrior(robot));
+    candidates.push_back({kRobotSettled});
+  }
+  std::vector<std::vector<FoldError>> folds;
+  for (const std::optional<RobotPrior>& prior : priors)
+    folds.push_back(HeldOutErrors(c.problem, init, options, prior, kModelFolds));
+  std::vector<double> sum_sq(priors.size(), 0.0);
+  int points = 0;
+  for (int f = 0; f < kModelFolds; ++f) {
+    bool comparable = true;
+    for (const std::vector<FoldError>& fold : folds)
+      comparable = comparable && fold[f].solved && fold[f].points == folds[0][f].points;
+    if (!comparable) continue;
+    for (size_t i = 0; i < priors.size(); ++i) sum_sq[i] += folds[i][f].sum_sq_px;
+    points += folds[0][f].points;
+  }
+  for (size_t i = 0; i < priors.size(); ++i) {
+    ModelCandidate& candidate = candidates[i];
+    candidate.points = points;
+    if (points > 0) candidate.held_out_rms_px = std::sqrt(sum_sq[i] / points);
+    if (priors[i]) {
+      candidate.robot_sigma_mm = priors[i]->sigma_m * 1000.0;
+      candidate.robot_sigma_deg = priors[i]->sigma_rad * 180.0 / M_PI;
+    }
+  }
+  // The model the views suggested, unless another candidate predicts
+  // clearly better: then the one that predicts best.
   ModelChoice choice;
   choice.folds = kModelFolds;
-  ModelCandidate a{kExactRobot}, b{kRobotModelled};
-  double sq_a = 0, sq_b = 0;
-  for (int f = 0; f < kModelFolds; ++f) {
-    if (!exact[f].solved || !modelled[f].solved || exact[f].points != modelled[f].points) continue;
-    sq_a += exact[f].sum_sq_px;
-    sq_b += modelled[f].sum_sq_px;
-    a.points += exact[f].points;
-  }
-  b.points = a.points;
-  b.robot_sigma_mm = robot.sigma_m * 1000.0;
-  b.robot_sigma_deg = robot.sigma_rad * 180.0 / M_PI;
-  if (a.points > 0) {
-    a.held_out_rms_px = std::sqrt(sq_a / a.points);
-    b.held_out_rms_px = std::sqrt(sq_b / b.points);
-  }
-  // The exact robot where it predicts clearly better; where the two predict
-  // alike, the data cannot tell them apart and the model the views suggested
-  // stays.
-  choice.chosen = a.points > 0 && b.held_out_rms_px > kModelsAlikeHeldOut * a.held_out_rms_px
-                      ? kExactRobot
-                      : kRobotModelled;
-  choice.candidates = {a, b};
+  choice.chosen = kRobotModelled;
+  const auto best = std::min_element(candidates.begin(), candidates.end(),
+                                     [](const ModelCandidate& a, const ModelCandidate& b) {
+                                       return a.held_out_rms_px < b.held_out_rms_px;
+                                     });
+  if (points > 0 && candidates[1].held_out_rms_px > kModelsAlikeHeldOut * best->held_out_rms_px)
+    choice.chosen = best->name;
+  choice.candidates = candidates;
   return choice;
 }
 
@@ -208,9 +238,11 @@ ModelChoice CompareRobotModels(const Calibration& c, const Initialisation& init,
 /// readily as the robot's own error, and on real robots the modelled solve
 /// predicted held-out views worse than the exact one (issue 24). So where the
 /// views alone suggest the robot's error (an estimated prior), the modelled
-/// solve and the exact one each predict every quarter of the poses from the
-/// other three, and the exact poses are taken where they predict clearly
-/// better (kModelsAlikeHeldOut).
+/// solve, the exact one and the one under the σ the solved poses show each
+/// predict every quarter of the poses from the other three, and another
+/// than the first is taken where it predicts clearly better
+/// (kModelsAlikeHeldOut): the exact poses solved again from the start, the
+/// solved poses' σ in one more solve from the modelled solution.
 Refinement ModelChosenRounds(Calibration* c, Initialisation* init,
                              std::optional<RobotPrior>* robot) {
   // No choice where the robot's σ is given (0: exact), or where cameras are
@@ -234,9 +266,11 @@ Refinement ModelChosenRounds(Calibration* c, Initialisation* init,
   std::ostringstream note;
   note.precision(3);
   note << "robot model chosen by how well it predicts poses it did not see (" << choice.folds
-       << " folds over the poses, held-out RMS): " << kExactRobot << " "
-       << choice.candidates[0].held_out_rms_px << " px, " << kRobotModelled << " "
-       << choice.candidates[1].held_out_rms_px << " px: " << choice.chosen;
+       << " folds over the poses, held-out RMS):";
+  for (size_t i = 0; i < choice.candidates.size(); ++i)
+    note << (i ? ", " : " ") << choice.candidates[i].name << " "
+         << choice.candidates[i].held_out_rms_px << " px";
+  note << ": " << choice.chosen;
   if (choice.chosen == kExactRobot) {
     c->problem = views_before;
     c->working.cameras = cameras_before;
@@ -244,6 +278,18 @@ Refinement ModelChosenRounds(Calibration* c, Initialisation* init,
     c->exact_robot = true;
     *init = start;
     refined = RobustJointRounds(c, init, robot);
+  } else if (choice.chosen == kRobotSettled) {
+    // One more solve, from this solution, under the σ the pose blocks showed.
+    const RobotPrior settled = SettledPrior(**robot);
+    SolverSummary rounds = refined.summary;
+    refined = RefineOnce(c, *init, AtLossScale(c->options, rounds.cauchy_scale_px), settled);
+    WarmStart(refined, init);
+    rounds.seconds += refined.summary.seconds;
+    rounds.iterations += refined.summary.iterations;
+    rounds.converged = refined.summary.converged;
+    rounds.termination = refined.summary.termination;
+    refined.summary = rounds;
+    *robot = settled;
   }
   c->result.notes.push_back(note.str());
   c->model_choice = choice;
@@ -258,9 +304,13 @@ void NoteRobotModel(Calibration* c, const RobotPrior& robot) {
   note.precision(3);
   note << "the robot's own pose error is modelled (one pose block per robot pose): σ "
        << robot.sigma_m * 1000.0 << " mm and " << robot.sigma_rad * 180.0 / M_PI << " deg per axis"
-       << (c->options.robot_sigma_mm > 0 ? " (given)" : " (estimated from the views)")
+       << (c->options.robot_sigma_mm > 0 ? " (given)"
+           : c->model_choice && c->model_choice->chosen == kRobotSettled
+               ? " (as the solved poses show it)"
+               : " (estimated from the views)")
        << ", detection σ " << robot.pixel_sigma_px << " px";
-  if (robot.settled_sigma_m > 0)
+  if (robot.settled_sigma_m > 0 &&
+      (robot.settled_sigma_m != robot.sigma_m || robot.settled_sigma_rad != robot.sigma_rad))
     note << "; the solved poses show σ " << robot.settled_sigma_m * 1000.0 << " mm and "
          << robot.settled_sigma_rad * 180.0 / M_PI << " deg, which the cameras' sigma assumes";
   c->result.notes.push_back(note.str());

@@ -329,22 +329,24 @@ struct CalibrationMetrics {
 /// One robot model the joint solve could use, and how well it predicts the
 /// views of robot poses it did not see.
 struct ModelCandidate {
-  std::string name;            ///< "exact robot" or "robot error modelled"
+  /// "exact robot", "robot error modelled" (the σ the views suggest) or
+  /// "robot error modelled at the solved poses' σ"
+  std::string name;
   double held_out_rms_px = 0;  ///< RMS of the left-out poses' points, predicted without them
   int points = 0;              ///< points predicted (the same for every candidate)
   /// The robot's pose error this candidate assumes, σ per axis (0 for the
-  /// exact robot; for the model, the σ estimated from the views): where the
-  /// exact poses are chosen, `check` still counts this error in new poses.
+  /// exact robot): where the exact poses are chosen, `check` still counts
+  /// the first model's error in new poses.
   double robot_sigma_mm = 0;
   double robot_sigma_deg = 0;
 };
 
 /// Which robot model the joint solve used and why: where the views suggest
-/// the robot's own pose error, the solve with it and the one with exact poses
-/// each predict the views of every fold of poses from the other folds; the
-/// exact poses are taken where they predict clearly better (the model's
-/// held-out RMS over 1.25 times theirs), the model is kept where the two
-/// predict alike or it predicts better.
+/// the robot's own pose error, the solve with it, the one with exact poses
+/// and (where they differ) the one under the σ the solved poses show each
+/// predict the views of every fold of poses from the other folds; the model
+/// the views suggested is kept unless another candidate predicts more than
+/// 5 % better, and then the one that predicts best is taken.
 struct ModelChoice {
   std::string chosen;  ///< a candidate's name
   int folds = 0;       ///< folds over the robot poses
