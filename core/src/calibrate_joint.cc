@@ -190,8 +190,7 @@ ModelChoice CompareRobotModels(const Calibration& c, const Initialisation& init,
                                const CalibrationOptions& options, const RobotPrior& robot) {
   std::vector<std::optional<RobotPrior>> priors = {std::nullopt, robot};
   std::vector<ModelCandidate> candidates = {{kExactRobot}, {kRobotModelled}};
-  if (robot.settled_sigma_m > 0 && robot.settled_sigma_rad > 0 &&
-      (robot.settled_sigma_m != robot.sigma_m || robot.settled_sigma_rad != robot.sigma_rad)) {
+  if (robot.SettledApart()) {
     priors.push_back(SettledPrior(robot));
     candidates.push_back({kRobotSettled});
   }
@@ -309,8 +308,7 @@ void NoteRobotModel(Calibration* c, const RobotPrior& robot) {
                ? " (as the solved poses show it)"
                : " (estimated from the views)")
        << ", detection σ " << robot.pixel_sigma_px << " px";
-  if (robot.settled_sigma_m > 0 &&
-      (robot.settled_sigma_m != robot.sigma_m || robot.settled_sigma_rad != robot.sigma_rad))
+  if (robot.SettledApart())
     note << "; the solved poses show σ " << robot.settled_sigma_m * 1000.0 << " mm and "
          << robot.settled_sigma_rad * 180.0 / M_PI << " deg, which the cameras' sigma assumes";
   c->result.notes.push_back(note.str());

@@ -197,9 +197,7 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
   for (auto& s : out->intrinsics_sigma) s.fill(0.0);
   out->T_cam_mount_covariance.assign(T_cam_mount.size(), std::nullopt);
   out->T_holder_target_covariance.reset();
-  const bool sandwich =
-      robot && !robot_poses.empty() && robot->settled_sigma_m > 0 && robot->settled_sigma_rad > 0 &&
-      (robot->settled_sigma_m != robot->sigma_m || robot->settled_sigma_rad != robot->sigma_rad);
+  const bool sandwich = robot && !robot_poses.empty() && robot->SettledApart();
   std::vector<double*> wanted;  // the blocks whose covariance the result reports
   for (double* block : T_cam_mount)
     if (block && !problem->IsParameterBlockConstant(block)) wanted.push_back(block);

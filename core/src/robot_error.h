@@ -26,6 +26,11 @@ struct RobotPrior {
   /// settled σ moved the cameras 0.16 mm further from the ground truth.
   double settled_sigma_m = 0;
   double settled_sigma_rad = 0;
+  /// The solved pose blocks showed another σ than the prior's.
+  bool SettledApart() const {
+    return settled_sigma_m > 0 && settled_sigma_rad > 0 &&
+           (settled_sigma_m != sigma_m || settled_sigma_rad != sigma_rad);
+  }
 };
 
 struct Initialisation;
