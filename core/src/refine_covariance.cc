@@ -7,8 +7,11 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <set>
+#include <utility>
 
 #include "covariance.h"
 #include "refine_internal.h"
@@ -174,6 +177,71 @@ Eigen::Matrix<double, 6, 1> WideningOf(const Eigen::Matrix<double, 6, 6>& C,
   return d;
 }
 
+/// The covariance blocks SolutionCovariance reads: each free camera's, the
+/// target transform's and each intrinsics block's own, and each of those
+/// against the robot pose blocks (`robot_poses`: the sandwich's; empty
+/// without it) and against the `scattered` blocks (the scatter's).
+std::vector<std::pair<const double*, const double*>> CovariancePairs(
+    const ceres::Problem& problem, const std::vector<double*>& T_cam_mount, double* T_holder_target,
+    const std::vector<double*>& K, const std::vector<RobotPoseBlock>& robot_poses,
+    const std::vector<double*>& scattered) {
+  std::vector<double*> wanted;  // the blocks whose covariance the result reports
+  for (double* block : T_cam_mount)
+    if (block && !problem.IsParameterBlockConstant(block)) wanted.push_back(block);
+  wanted.push_back(T_holder_target);
+  for (double* block : K)
+    if (block) wanted.push_back(block);
+  std::vector<std::pair<const double*, const double*>> pairs;
+  for (double* block : wanted) {
+    pairs.emplace_back(block, block);
+    for (const RobotPoseBlock& pose : robot_poses) pairs.emplace_back(block, pose.pose);
+    for (double* other : scattered) pairs.emplace_back(block, other);
+  }
+  return pairs;
+}
+
+using IntrinsicsSigmas = std::array<double, OpenCVCameraModel::kNumParams>;
+
+/// The intrinsics block K's tangent-to-parameter Jacobian (identity without a
+/// manifold; the subset manifold's rows of fixed parameters are 0).
+Eigen::Matrix<double, OpenCVCameraModel::kNumParams, Eigen::Dynamic, Eigen::RowMajor>
+IntrinsicsPlusJacobian(const ceres::Problem& problem, const double* K) {
+  constexpr int kN = OpenCVCameraModel::kNumParams;
+  Eigen::Matrix<double, kN, Eigen::Dynamic, Eigen::RowMajor> P =
+      Eigen::Matrix<double, kN, Eigen::Dynamic, Eigen::RowMajor>::Identity(
+          kN, problem.ParameterBlockTangentSize(K));
+  if (const ceres::Manifold* manifold = problem.GetManifold(K)) manifold->PlusJacobian(K, P.data());
+  return P;
+}
+
+/// 1σ of each intrinsic of block K from its tangent-space covariance `C`
+/// (the free and the held uncertain intrinsics; the latter's rows are 0),
+/// each no smaller than the robot poses' `scatter` of it (none: empty).
+IntrinsicsSigmas IntrinsicsSigma(const ceres::Problem& problem, const double* K,
+                                 const Eigen::MatrixXd& C, const Eigen::MatrixXd& scatter) {
+  const auto P = IntrinsicsPlusJacobian(problem, K);
+  const Eigen::MatrixXd model = P * C * P.transpose();
+  const Eigen::MatrixXd floor =
+      scatter.size() ? Eigen::MatrixXd(P * scatter * P.transpose()) : Eigen::MatrixXd();
+  IntrinsicsSigmas sigma{};
+  for (int p = 0; p < OpenCVCameraModel::kNumParams; ++p)
+    sigma[p] =
+        std::sqrt(std::max(0.0, floor.size() ? std::max(model(p, p), floor(p, p)) : model(p, p)));
+  return sigma;
+}
+
+/// Where the covariance could not be computed: every intrinsic the solve
+/// could move is undetermined (infinite σ); fixed ones stay exact.
+IntrinsicsSigmas UndeterminedIntrinsicsSigma(const ceres::Problem& problem, const double* K) {
+  IntrinsicsSigmas sigma;
+  sigma.fill(std::numeric_limits<double>::infinity());
+  if (!problem.GetManifold(K)) return sigma;
+  const auto P = IntrinsicsPlusJacobian(problem, K);
+  for (int p = 0; p < OpenCVCameraModel::kNumParams; ++p)
+    if (P.row(p).isZero()) sigma[p] = 0.0;
+  return sigma;
+}
+
 }  // namespace
 
 /// The covariance of the solution: tangent-space 6×6 of the pose blocks
@@ -192,28 +260,17 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
                         const std::optional<RobotPrior>& robot,
                         const std::vector<RobotPoseBlock>& robot_poses,
                         ConsiderCovariance* covariance, int threads, Refinement* out) {
-  constexpr int kN = OpenCVCameraModel::kNumParams;
   out->intrinsics_sigma.assign(K.size(), {});
   for (auto& s : out->intrinsics_sigma) s.fill(0.0);
   out->T_cam_mount_covariance.assign(T_cam_mount.size(), std::nullopt);
   out->T_holder_target_covariance.reset();
   const bool sandwich = robot && !robot_poses.empty() && robot->SettledApart();
-  std::vector<double*> wanted;  // the blocks whose covariance the result reports
-  for (double* block : T_cam_mount)
-    if (block && !problem->IsParameterBlockConstant(block)) wanted.push_back(block);
-  wanted.push_back(T_holder_target);
-  for (double* block : K)
-    if (block) wanted.push_back(block);
   const std::vector<double*> scattered = ScatterBlocks(*problem, robot_poses);
-  std::vector<std::pair<const double*, const double*>> pairs;
-  for (double* block : wanted) {
-    pairs.emplace_back(block, block);
-    if (sandwich)
-      for (const RobotPoseBlock& pose : robot_poses) pairs.emplace_back(block, pose.pose);
-    for (double* other : scattered) pairs.emplace_back(block, other);
-  }
   const double variance_factor = VarianceFactor(problem, views);
-  const bool ok = covariance->Compute(pairs, problem, threads);
+  const bool ok = covariance->Compute(
+      CovariancePairs(*problem, T_cam_mount, T_holder_target, K,
+                      sandwich ? robot_poses : std::vector<RobotPoseBlock>{}, scattered),
+      problem, threads);
   const Eigen::MatrixXd scores = ok ? PoseScores(problem, at_pose, scattered) : Eigen::MatrixXd();
 
   const std::vector<Eigen::Matrix<double, 6, 6>> M =
@@ -258,33 +315,14 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
   }
   for (size_t k = 0; k < K.size(); ++k) {
     if (!K[k]) continue;
-    Eigen::Matrix<double, kN, kN, Eigen::RowMajor> C =
-        Eigen::Matrix<double, kN, kN, Eigen::RowMajor>::Zero();
-    const ceres::Manifold* manifold = problem->GetManifold(K[k]);
-    if (ok) {
-      // In the tangent space (the free and the held uncertain intrinsics;
-      // the latter's rows are 0), back to all 18.
-      Eigen::Matrix<double, kN, Eigen::Dynamic, Eigen::RowMajor> P =
-          Eigen::Matrix<double, kN, Eigen::Dynamic, Eigen::RowMajor>::Identity(
-              kN, problem->ParameterBlockTangentSize(K[k]));
-      if (manifold) manifold->PlusJacobian(K[k], P.data());
-      C = P * solve_covariance(K[k], K[k]) * P.transpose();
-      if (scores.size()) {
-        const Eigen::MatrixXd S =
-            P * Scatter(K[k], scattered, scores, tangent_block) * P.transpose();
-        for (int p = 0; p < kN; ++p) C(p, p) = std::max(C(p, p), S(p, p));
-      }
+    if (!ok) {
+      out->intrinsics_sigma[k] = UndeterminedIntrinsicsSigma(*problem, K[k]);
+      continue;
     }
-    for (int p = 0; p < kN; ++p)
-      out->intrinsics_sigma[k][p] =
-          ok ? std::sqrt(std::max(0.0, C(p, p))) : std::numeric_limits<double>::infinity();
-    if (!ok && manifold) {
-      // Fixed parameters stay exact: the subset manifold's plus is the identity on them.
-      Eigen::Matrix<double, kN, Eigen::Dynamic, Eigen::RowMajor> P(kN, manifold->TangentSize());
-      manifold->PlusJacobian(K[k], P.data());
-      for (int p = 0; p < kN; ++p)
-        if (P.row(p).isZero()) out->intrinsics_sigma[k][p] = 0.0;
-    }
+    const Eigen::MatrixXd scatter =
+        scores.size() ? Scatter(K[k], scattered, scores, tangent_block) : Eigen::MatrixXd();
+    out->intrinsics_sigma[k] =
+        IntrinsicsSigma(*problem, K[k], solve_covariance(K[k], K[k]), scatter);
   }
 }
 
