@@ -4,6 +4,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <algorithm>
+#include <map>
 #include <set>
 
 namespace handeye::internal {
@@ -32,8 +33,13 @@ bool ConsiderCovariance::Compute(const std::vector<std::pair<const double*, cons
   }
   covariance_ = std::make_unique<BlockCovariance>(
       problem, BlockCovariance::Pairs(wanted.begin(), wanted.end()), ceres::SPARSE_QR, threads);
+  against_.clear();
   if (!covariance_->ok()) return false;
   if (num_consider_ == 0) return true;
+  // Each block's rows against the consider coordinates, read once: the
+  // scatter reads every block against every other (32 cameras: 17 000 times).
+  for (const double* block : blocks) against_.emplace(block, AgainstConsider(block));
+  for (const Coordinates& c : consider_) against_.emplace(c.block, AgainstConsider(c.block));
   Eigen::MatrixXd H_cc(num_consider_, num_consider_);
   int row = 0;
   for (const Coordinates& c : consider_) {
@@ -72,6 +78,7 @@ Eigen::MatrixXd ConsiderCovariance::Raw(const double* a, const double* b) const 
 }
 
 Eigen::MatrixXd ConsiderCovariance::AgainstConsider(const double* a) const {
+  if (const auto known = against_.find(a); known != against_.end()) return known->second;
   Eigen::MatrixXd out(problem_->ParameterBlockTangentSize(a), num_consider_);
   int column = 0;
   for (const Coordinates& c : consider_) {

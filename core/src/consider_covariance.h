@@ -5,13 +5,15 @@
 // camera: known to about 1 %, not estimated). Their uncertainty is no part of
 // the residuals, so the covariance of the solve alone leaves it out.
 
-#include "covariance.h"
 #include <ceres/problem.h>
 
 #include <Eigen/Core>
+#include <map>
 #include <memory>
 #include <utility>
 #include <vector>
+
+#include "covariance.h"
 
 namespace handeye::internal {
 
@@ -85,6 +87,8 @@ class ConsiderCovariance {
   ceres::Problem* problem_ = nullptr;
   std::unique_ptr<BlockCovariance> covariance_;
   Eigen::MatrixXd inverse_cc_;  // (H⁻¹_cc)⁻¹
+  /// AgainstConsider of the blocks Compute was given, and of the consider blocks.
+  std::map<const double*, Eigen::MatrixXd> against_;
 };
 
 }  // namespace handeye::internal
