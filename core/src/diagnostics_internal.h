@@ -13,6 +13,9 @@ namespace handeye::internal {
 /// `value` with `decimals` digits after the point, for messages.
 std::string Fixed(double value, int decimals);
 
+/// "park" → "Park": a method's name as its authors' in a sentence.
+std::string AuthorName(std::string method);
+
 /// Relative robot rotations of more than this many degrees have an axis the
 /// diversity checks use; below it the axis is noise-dominated.
 constexpr double kMotionAxisMinDeg = 2.0;
@@ -53,16 +56,17 @@ AxzbOfView Axzb(const Eigen::Isometry3d& T_cam_target_pnp, const Eigen::Isometry
                 const Eigen::Isometry3d& T_mount_holder, const Eigen::Isometry3d& T_holder_target);
 
 /// Camera k of the solution (T_cam_mount, T_holder_target) against the
-/// closed form `method` on the camera's own views: how far apart the two
-/// camera poses are, and by how many pixels the target's points move in the
-/// camera's image between them.
+/// closed form `method` on the camera's own views (on the 150 of most
+/// diverse rotation where it has more: OpenCV's closed forms pair every two
+/// of them): how far apart the two camera poses are, and by how many pixels
+/// the target's points move in the camera's image between them.
 ClosedFormComparison CompareWithClosedForm(const Problem& problem, int k,
                                            const Eigen::Isometry3d& T_cam_mount,
                                            const Eigen::Isometry3d& T_holder_target,
                                            Method method);
 
 /// What a disagreement of the solution with the closed form `compared`
-/// points at, judged by the other closed forms (see diagnostics.cc): the
+/// points at, judged by the other closed forms (closed_form_comparison.cc): the
 /// compared closed form that failed, the result's own method that failed,
 /// the solve; empty when the closed forms disagree among themselves too.
 std::string DisagreementCause(const Problem& problem, int k, const Eigen::Isometry3d& T_cam_mount,
