@@ -47,9 +47,14 @@ void SettleRobotSigma(const Problem& problem, const Initialisation& init,
                       const Refinement& solution, const CalibrationOptions& options,
                       RobotPrior* robot);
 
+/// Residuals through the exact-robot chain over PnP's (RobotPrior::chain_to_pnp)
+/// from which the views clearly show the robot's error; below it they may.
+constexpr double kClearChainToPnp = 1.2;
+
 /// The robot's pose error as the views show it through the chain: nullopt when
-/// the residuals through the chain are not clearly above PnP's (over 1.2×;
-/// the robot is then as exact as the images can tell); else σ of the flange's
+/// the residuals through the chain are not above PnP's (the robot is then as
+/// exact as the images can tell; between 1 and kClearChainToPnp it may be
+/// too, which the caller weighs); else σ of the flange's
 /// displacement across the viewing rays and of its rotation, from the medians
 /// of where PnP and the chain put the target, less PnP's own noise there.
 std::optional<RobotPrior> EstimateRobotPrior(

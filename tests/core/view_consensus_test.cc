@@ -193,8 +193,10 @@ TEST_CASE("the robot's error the views show: none for an exact robot, near the s
     INFO(SetupName(setup));
     for (const std::uint64_t seed : {6, 7, 8}) {
       const ProblemCell exact(SmallCell(setup, 3, 20, seed), 0.1);
-      CHECK_FALSE(
-          internal::EstimateRobotPrior(exact.problem, exact.TrueCamMounts(), TrueTargets(exact)));
+      // None, or residuals not clearly above PnP's (which the solve then weighs).
+      const auto none =
+          internal::EstimateRobotPrior(exact.problem, exact.TrueCamMounts(), TrueTargets(exact));
+      CHECK((!none || none->chain_to_pnp < internal::kClearChainToPnp));
       SceneOptions options = SmallCell(setup, 3, 20, seed);
       options.pose_noise_mm = 0.3;
       options.pose_noise_deg = 0.03;
