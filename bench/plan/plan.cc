@@ -254,8 +254,10 @@ int main(int argc, char** argv) {
           predicted_sigma.push_back(predicted.position_mm);
           reported_sigma.push_back(b.sigma_mm.at(name));
           planned_errors.push_back(b.error_mm.at(name));
-          std::fprintf(stderr, "  %s predicted %.3f reported %.3f (own %.3f) true error %.3f\n", name.c_str(),
-                       predicted.position_mm, b.sigma_mm.at(name), b.own_sigma_mm.at(name), b.error_mm.at(name));
+          std::fprintf(stderr,
+                       "  %s predicted %.3f (own %.3f) reported %.3f (own %.3f) true error %.3f\n",
+                       name.c_str(), predicted.position_mm, predicted.own_position_mm,
+                       b.sigma_mm.at(name), b.own_sigma_mm.at(name), b.error_mm.at(name));
         }
       std::fprintf(stderr, "%s seed %llu: sampler mean %.3f worst %.3f | planned mean %.3f worst %.3f\n",
                    cell_names[c].c_str(), (unsigned long long)seed, a.mean_mm, a.worst_mm, b.mean_mm, b.worst_mm);

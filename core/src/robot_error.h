@@ -52,9 +52,10 @@ void SettleRobotSigma(const Problem& problem, const Initialisation& init,
 constexpr double kClearChainToPnp = 1.2;
 
 /// The robot's pose error as the views show it through the chain: nullopt when
-/// the residuals through the chain are not above PnP's (the robot is then as
-/// exact as the images can tell; between 1 and kClearChainToPnp it may be
-/// too, which the caller weighs); else σ of the flange's
+/// the residuals through the chain are not above PnP's, or are only a little
+/// (under kClearChainToPnp) and the target's place across the viewing rays
+/// is as PnP's noise explains (the robot is then as exact as the images can
+/// tell; in the band it may still be, which the caller weighs); else σ of the flange's
 /// displacement across the viewing rays and of its rotation, from the medians
 /// of where PnP and the chain put the target, less PnP's own noise there.
 std::optional<RobotPrior> EstimateRobotPrior(

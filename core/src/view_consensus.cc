@@ -291,6 +291,27 @@ void ExplainInconsistentViews(Problem* problem,
   }
 }
 
+namespace {
+
+/// Whether the chain puts the target further across the viewing rays from
+/// where PnP sees it than PnP's own noise explains: their median (over the
+/// median of a 2D Gaussian's norm, 1.1774 σ) beyond PnP's σ there by more
+/// than three standard errors of a median of Rayleigh draws (0.72 / √n).
+/// Where the residuals leave it open (chain_to_pnp between 1 and 1.2) this
+/// tells a robot off by 0.3 mm / 0.03° (1.46–3.6 over PnP's σ in the 12
+/// planned poses of bench/plan) from an exact one (rendered cells of
+/// bench/robot-model 0.67–1.17, projected cells of bench_scale 0.84–0.99);
+/// an exact robot's cell then skips the held-out model choice, whose
+/// solves cost a 32-camera cell 4x its calibration.
+bool AcrossRaysShowRobot(const std::vector<double>& across_m,
+                         const std::vector<double>& pnp_across_m2) {
+  const double seen_over_pnp =
+      Median(across_m) / 1.1774 / std::sqrt(std::max(Median(pnp_across_m2), 1e-30));
+  return seen_over_pnp > 1.0 + 3.0 * 0.72 / std::sqrt(static_cast<double>(across_m.size()));
+}
+
+}  // namespace
+
 std::optional<RobotPrior> EstimateRobotPrior(
     const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
     const TargetPoses& T_holder_target) {
@@ -319,9 +340,12 @@ std::optional<RobotPrior> EstimateRobotPrior(
   // the right intrinsics its residuals are within ≈ 15 % of PnP's (rendered
   // cells: 1.00–1.14). Clearly above that (kClearChainToPnp), the robot's
   // poses set them; between, the caller decides (a robot of 0.3 mm / 0.03°
-  // seen in 12 poses is often there).
+  // seen in 12 poses is often there), where the target's place across the
+  // viewing rays says the robot may be off (AcrossRaysShowRobot).
   const double chain_to_pnp = Median(chain_rms) / std::max(Median(pnp_rms), 1e-9);
   if (chain_to_pnp < 1.0) return std::nullopt;
+  if (chain_to_pnp < kClearChainToPnp && !AcrossRaysShowRobot(across_m, pnp_across_m2))
+    return std::nullopt;
   RobotPrior prior;
   prior.chain_to_pnp = chain_to_pnp;
   // Where the chain and PnP disagree, PnP's own noise is part of it (at a few

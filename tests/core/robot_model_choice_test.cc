@@ -79,7 +79,10 @@ TEST_CASE("an exact robot whose views show no error is solved as exact by defaul
         MeanErrorMm(scene.dataset, CalibrationOptions{}, scene.truth, &result);
     const double exact = MeanErrorMm(scene.dataset, RobotSigma(0, 0), scene.truth);
     CHECK(result.solver.robot_sigma_mm == 0.0);
-    if (result.solver.model) CHECK(result.solver.model->chosen == "exact robot");
+    // Nor does it pay the held-out choice: the target lies across the viewing
+    // rays where PnP's noise puts it (a 32-camera cell: 5.4 s, with the
+    // choice 23 s).
+    CHECK_FALSE(result.solver.model);
     CHECK(by_default == Approx(exact).epsilon(1e-6));
   }
 }
