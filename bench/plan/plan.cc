@@ -51,6 +51,8 @@ struct Outcome {
   bool solved = false;
   std::string why;
   double mean_mm = 0, worst_mm = 0;
+  double robot_sigma_mm = 0, robot_sigma_deg = 0;  // as the solve modelled it (0: exact)
+  std::string model;                               // the held-out choice's pick, if any
   std::map<std::string, double> error_mm, sigma_mm, own_sigma_mm;
 };
 
@@ -92,6 +94,9 @@ Outcome Solve(const SyntheticScene& scene, const Settings& settings) {
         out.own_sigma_mm[c.name] = c.sigma->OwnPositionMm();
       }
     out.mean_mm = evaluation.mean_translation_mm;
+    out.robot_sigma_mm = result.solver.robot_sigma_mm;
+    out.robot_sigma_deg = result.solver.robot_sigma_deg;
+    if (result.solver.model) out.model = result.solver.model->chosen;
     out.solved = evaluation.cameras.size() == scene.dataset.cameras.size();
     if (!out.solved) out.why = "not every camera calibrated";
   } catch (const std::exception& e) {
@@ -259,8 +264,14 @@ int main(int argc, char** argv) {
                        name.c_str(), predicted.position_mm, predicted.own_position_mm,
                        b.sigma_mm.at(name), b.own_sigma_mm.at(name), b.error_mm.at(name));
         }
-      std::fprintf(stderr, "%s seed %llu: sampler mean %.3f worst %.3f | planned mean %.3f worst %.3f\n",
-                   cell_names[c].c_str(), (unsigned long long)seed, a.mean_mm, a.worst_mm, b.mean_mm, b.worst_mm);
+      std::fprintf(stderr,
+                   "%s seed %llu: sampler mean %.3f worst %.3f | planned mean %.3f worst %.3f, "
+                   "robot %.3f mm / "
+                   "%.4f deg (%s); sampler's robot %.3f mm / %.4f deg (%s)\n",
+                   cell_names[c].c_str(), (unsigned long long)seed, a.mean_mm, a.worst_mm,
+                   b.mean_mm, b.worst_mm, b.robot_sigma_mm, b.robot_sigma_deg,
+                   b.model.empty() ? "no choice" : b.model.c_str(), a.robot_sigma_mm,
+                   a.robot_sigma_deg, a.model.empty() ? "no choice" : a.model.c_str());
     }
     if (solved == 0) {
       std::printf("%s, %d cameras: %d of %d plans failed, none solved\n", cell_names[c].c_str(), cameras,

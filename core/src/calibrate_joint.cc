@@ -336,9 +336,11 @@ void NoteRobotModel(Calibration* c, const RobotPrior& robot) {
                ? " (as the solved poses show it)"
                : " (estimated from the views)")
        << ", detection σ " << robot.pixel_sigma_px << " px";
-  if (robot.SettledApart())
-    note << "; the solved poses show σ " << robot.settled_sigma_m * 1000.0 << " mm and "
-         << robot.settled_sigma_rad * 180.0 / M_PI << " deg, which the cameras' sigma assumes";
+  if (robot.CovarianceApart())
+    note << "; the solved poses show σ " << robot.CovarianceSigmaM() * 1000.0 << " mm and "
+         << robot.CovarianceSigmaRad() * 180.0 / M_PI << " deg (" << robot.settled_dof_scale
+         << "x their spread about the solution: the solved cameras and target took up part of it), "
+            "which the cameras' sigma assumes";
   c->result.notes.push_back(note.str());
 }
 

@@ -35,7 +35,7 @@ Eigen::MatrixXd BlockDiagonal(const std::vector<Eigen::MatrixXd>& blocks) {
 
 namespace {
 
-/// Where the robot's error the covariance assumes (RobotPrior::settled_sigma_m)
+/// Where the robot's error the covariance assumes (RobotPrior::CovarianceSigmaM)
 /// differs from the σ of the prior the solve weighed the records with, the
 /// covariance of the estimate is the sandwich A⁻¹ B A⁻¹: A = JᵀJ as solved,
 /// B = JᵀΣJ with the prior residuals' variance scaled by D = (settled / prior σ)²,
@@ -46,8 +46,8 @@ std::vector<Eigen::Matrix<double, 6, 6>> SandwichWeights(
     const ceres::Problem& problem, const std::vector<RobotPoseBlock>& robot_poses,
     const RobotPrior& robot) {
   Eigen::Matrix<double, 6, 1> keep;  // 1 − D per prior residual (rotation, then translation)
-  const double rotation = robot.settled_sigma_rad / robot.sigma_rad,
-               translation = robot.settled_sigma_m / robot.sigma_m;
+  const double rotation = robot.CovarianceSigmaRad() / robot.sigma_rad,
+               translation = robot.CovarianceSigmaM() / robot.sigma_m;
   keep << Eigen::Vector3d::Constant(1.0 - rotation * rotation),
       Eigen::Vector3d::Constant(1.0 - translation * translation);
   std::vector<Eigen::Matrix<double, 6, 6>> M;
@@ -264,7 +264,7 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
   for (auto& s : out->intrinsics_sigma) s.fill(0.0);
   out->T_cam_mount_covariance.assign(T_cam_mount.size(), std::nullopt);
   out->T_holder_target_covariance.reset();
-  const bool sandwich = robot && !robot_poses.empty() && robot->SettledApart();
+  const bool sandwich = robot && !robot_poses.empty() && robot->CovarianceApart();
   const std::vector<double*> scattered = ScatterBlocks(*problem, robot_poses);
   const double variance_factor = VarianceFactor(problem, views);
   const bool ok = covariance->Compute(

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The robot's own pose error as the solved pose blocks show it: expectation
 // maximisation over the robot pose blocks, for the uncertainty of the result.
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -125,6 +126,11 @@ void SettleRobotSigma(const Problem& problem, const Initialisation& init,
   }
   robot->settled_sigma_m = settled.settled_sigma_m;
   robot->settled_sigma_rad = settled.settled_sigma_rad;
+  int poses = 0, cameras = 0;
+  for (const auto& T : solved.T_mount_holder) poses += T ? 1 : 0;
+  for (const auto& T : solved.T_cam_mount) cameras += T ? 1 : 0;
+  const double kept = poses - cameras - 1;
+  robot->settled_dof_scale = kept > 0 ? std::min(std::sqrt(poses / kept), 2.0) : 2.0;
 }
 
 }  // namespace handeye::internal
