@@ -21,7 +21,8 @@ struct RobotPrior {
   double chain_to_pnp =
       0;  ///< median view RMS through the exact-robot chain over PnP's (estimated priors)
   /// The robot's error as the solved pose blocks show it (SettleRobotSigma),
-  /// which the covariance of the solution assumes; 0: sigma_m and sigma_rad.
+  /// which the covariance of the solution assumes times settled_dof_scale
+  /// (CovarianceSigmaM); 0: sigma_m and sigma_rad.
   /// The solve keeps its weights: on METRIC as published, solving under the
   /// settled σ moved the cameras 0.16 mm further from the ground truth.
   double settled_sigma_m = 0;
