@@ -294,20 +294,18 @@ void ExplainInconsistentViews(Problem* problem,
 namespace {
 
 /// Whether the chain puts the target further across the viewing rays from
-/// where PnP sees it than PnP's own noise explains: their median (over the
-/// median of a 2D Gaussian's norm, 1.1774 σ) beyond PnP's σ there by more
-/// than three standard errors of a median of Rayleigh draws (0.72 / √n).
-/// Where the residuals leave it open (chain_to_pnp between 1 and 1.2) this
-/// tells a robot off by 0.3 mm / 0.03° (1.46–3.6 over PnP's σ in the 12
-/// planned poses of bench/plan) from an exact one (rendered cells of
-/// bench/robot-model 0.67–1.17, projected cells of bench_scale 0.84–0.99);
-/// an exact robot's cell then skips the held-out model choice, whose
-/// solves cost a 32-camera cell 4x its calibration.
-bool AcrossRaysShowRobot(const std::vector<double>& across_m,
-                         const std::vector<double>& pnp_across_m2) {
-  const double seen_over_pnp =
-      Median(across_m) / 1.1774 / std::sqrt(std::max(Median(pnp_across_m2), 1e-30));
-  return seen_over_pnp > 1.0 + 3.0 * 0.72 / std::sqrt(static_cast<double>(across_m.size()));
+/// where PnP sees it than PnP's own noise explains: `seen_sigma_m` (the
+/// median offset over the median of a 2D Gaussian's norm) beyond PnP's σ
+/// there (`pnp_variance_m2`) by more than three standard errors of a median
+/// of `views` Rayleigh draws (0.72 / √n). Where the residuals leave it open
+/// (chain_to_pnp between 1 and 1.2) this tells a robot off by 0.3 mm / 0.03°
+/// (1.46–3.6 over PnP's σ in the 12 planned poses of bench/plan) from an
+/// exact one (rendered cells of bench/robot-model 0.67–1.17, projected cells
+/// of bench_scale 0.84–0.99); an exact robot's cell then skips the held-out
+/// model choice, whose solves cost a 32-camera cell 4x its calibration.
+bool AcrossRaysShowRobot(double seen_sigma_m, double pnp_variance_m2, size_t views) {
+  const double seen_over_pnp = seen_sigma_m / std::sqrt(std::max(pnp_variance_m2, 1e-30));
+  return seen_over_pnp > 1.0 + 3.0 * 0.72 / std::sqrt(static_cast<double>(views));
 }
 
 }  // namespace
@@ -342,15 +340,18 @@ std::optional<RobotPrior> EstimateRobotPrior(
   // poses set them; between, the caller decides (a robot of 0.3 mm / 0.03°
   // seen in 12 poses is often there), where the target's place across the
   // viewing rays says the robot may be off (AcrossRaysShowRobot).
+  // Medians of the norm of a 2D and of a 3D isotropic Gaussian: 1.1774 σ and 1.5382 σ.
+  const double across_sigma_m = Median(across_m) / 1.1774;
+  const double pnp_across_variance_m2 = Median(pnp_across_m2);
   const double chain_to_pnp = Median(chain_rms) / std::max(Median(pnp_rms), 1e-9);
   if (chain_to_pnp < 1.0) return std::nullopt;
-  if (chain_to_pnp < kClearChainToPnp && !AcrossRaysShowRobot(across_m, pnp_across_m2))
+  if (chain_to_pnp < kClearChainToPnp &&
+      !AcrossRaysShowRobot(across_sigma_m, pnp_across_variance_m2, across_m.size()))
     return std::nullopt;
   RobotPrior prior;
   prior.chain_to_pnp = chain_to_pnp;
   // Where the chain and PnP disagree, PnP's own noise is part of it (at a few
   // metres most of the rotation's): the robot's is what is left.
-  // Medians of the norm of a 2D and of a 3D isotropic Gaussian: 1.1774 σ and 1.5382 σ.
   const auto beyond_pnp = [](double seen_sigma, double pnp_variance) {
     return std::sqrt(std::max(0.0, seen_sigma * seen_sigma - pnp_variance));
   };
@@ -363,7 +364,7 @@ std::optional<RobotPrior> EstimateRobotPrior(
   std::vector<double> reach_m;
   for (const RobotPose& pose : dataset.poses)
     reach_m.push_back(pose.T_base_ee.translation().norm());
-  prior.sigma_m = std::max({beyond_pnp(Median(across_m) / 1.1774, Median(pnp_across_m2)),
+  prior.sigma_m = std::max({beyond_pnp(across_sigma_m, pnp_across_variance_m2),
                             prior.sigma_rad * Median(reach_m), 1e-5});
   prior.pixel_sigma_px = pixel_sigma_px;
   return prior;

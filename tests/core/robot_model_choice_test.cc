@@ -6,7 +6,6 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <memory>
-#include <random>
 #include <utility>
 
 #include "handeye/core/calibration.h"
@@ -123,9 +122,7 @@ TEST_CASE(
     REQUIRE(plan.failure.empty());
     for (const PlannedPose& pose : plan.poses) options.given_poses.push_back(pose.T_base_ee);
     options.num_poses = static_cast<int>(options.given_poses.size());
-    SyntheticScene scene = MakeScene(options, target);
-    std::mt19937_64 rng(seed + 7919);
-    AddProjectedObservations(&scene, 0.2, &rng);
+    const SyntheticScene scene = test::ProjectedScene(options, 0.2, 4, seed + 7919);
     const CalibrationResult result = Calibrate(scene.dataset, CalibrationOptions{});
     const Evaluation evaluation = EvaluateAgainstTruth(result, scene.truth);
     for (const CameraError& e : evaluation.cameras)
