@@ -141,12 +141,13 @@ std::optional<RobotPrior> RobotForRound(Calibration* c, Initialisation* init, do
   // the exact poses then 0.36 mm further from the truth on a medium cell
   // than the solve given the robot's σ). Held-out poses tell, where there
   // are enough of them; else the robot is taken as exact.
-  if (robot && robot->chain_to_pnp < kClearChainToPnp && !HeldOutPosesChoose(*c)) robot.reset();
-  if (robot && robot->chain_to_pnp < 2.0 &&
+  if (!robot) return std::nullopt;
+  if (robot->chain_to_pnp < kClearChainToPnp && !HeldOutPosesChoose(*c)) return std::nullopt;
+  if (robot->chain_to_pnp < 2.0 &&
       !IntrinsicsWarnings(c->problem, init->T_cam_mount, T_holder_target_now, scale,
                           UnrefinedIntrinsics(init->free_intrinsics, num_cameras), robot)
            .empty())
-    robot.reset();
+    return std::nullopt;
   return robot;
 }
 

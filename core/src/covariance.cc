@@ -39,7 +39,8 @@ double ViewDesignFactor(const ceres::Problem& problem,
   for (ceres::ResidualBlockId id : views) {
     r.resize(problem.GetCostFunctionForResidualBlock(id)->num_residuals());
     double cost;
-    if (!problem.EvaluateResidualBlock(id, false, &cost, r.data(), nullptr)) continue;
+    // With the loss: a camera's weight (RefineJoint) scales its residuals.
+    if (!problem.EvaluateResidualBlock(id, true, &cost, r.data(), nullptr)) continue;
     const int n = static_cast<int>(r.size()) / 2;
     if (n < 2) continue;
     double mx = 0, my = 0;

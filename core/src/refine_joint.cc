@@ -2,6 +2,7 @@
 // The paper's joint problem (shared T_holder_target, c_rpj + c_cross under a
 // Cauchy loss), built on a ChainProblem in steps: the poses, the intrinsics,
 // the views and their cross terms; solved with the Schur ordering below.
+#include <ceres/loss_function.h>
 #include <ceres/ordered_groups.h>
 #include <ceres/problem.h>
 #include <ceres/solver.h>
@@ -17,6 +18,7 @@
 #include "problem.h"
 #include "refine_internal.h"
 #include "refinement.h"
+#include "residuals.h"
 #include "robot_error.h"
 
 namespace handeye::internal {
@@ -43,6 +45,8 @@ struct JointBuild {
   // inputs too (ConsiderCovariance): unknowns of the problem under a prior.
   std::vector<ConsiderCovariance::Coordinates> uncertain_coordinates;
   std::vector<Eigen::MatrixXd> uncertain_covariances, uncertain_prior_information;
+  /// Per camera, its pixel residuals' weight (CameraWeights).
+  std::vector<double> weight = CameraWeights(problem);
 };
 
 /// T_holder_target and each camera with views (held where asked).
@@ -111,7 +115,9 @@ double* RobotPoseBlockOf(JointBuild* b, int j) {
 ceres::ResidualBlockId AddView(JointBuild* b, const View& view, int k, double* camera_block,
                                std::shared_ptr<const ViewPoints> view_points) {
   const Camera& camera = b->problem.dataset->cameras[k];
-  const double scale = b->options.cauchy_scale_px;
+  // The residuals are weighed by w under the loss scale a: w²·ρ_{a/w}(s) = ρ_a(w²s).
+  const double weight = b->weight[k];
+  const double scale = b->options.cauchy_scale_px / weight;
   const bool free_intrinsics = b->K[k] != nullptr;
   std::vector<double*> blocks = {camera_block};
   ceres::CostFunction* cost;
@@ -125,7 +131,10 @@ ceres::ResidualBlockId AddView(JointBuild* b, const View& view, int k, double* c
   }
   blocks.push_back(b->T_holder_target);
   if (free_intrinsics) blocks.push_back(b->K[k]);
-  const ceres::ResidualBlockId id = b->chain.problem().AddResidualBlock(cost, nullptr, blocks);
+  ceres::LossFunction* loss =
+      weight == 1.0 ? nullptr
+                    : new ceres::ScaledLoss(nullptr, weight * weight, ceres::TAKE_OWNERSHIP);
+  const ceres::ResidualBlockId id = b->chain.problem().AddResidualBlock(cost, loss, blocks);
   b->at_pose[view.pose].push_back(id);
   return id;
 }

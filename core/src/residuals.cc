@@ -76,13 +76,76 @@ double ResidualSigmaPx(const Problem& problem,
          std::sqrt(2.0 * std::log(2.0));
 }
 
+namespace {
+
+/// A view's detection noise σ per axis from its PnP fit (n points, 2n − 6
+/// degrees of freedom); nullopt where it has too few points to tell.
+std::optional<double> ViewSigmaPx(const View& view) {
+  const double n = static_cast<double>(view.p_target.size());
+  if (!view.used || n <= 3) return std::nullopt;
+  return view.pnp_rms_px * std::sqrt(n / (2.0 * n - 6.0));
+}
+
+/// The median of `sigmas`, and never below a thousandth of a pixel.
+double SigmaOf(std::vector<double> sigmas) { return std::max(Median(std::move(sigmas)), 1e-3); }
+
+/// The log of the median of per-view σ estimates and its standard error,
+/// from their spread (the MAD; a median's variance is π/2 a mean's).
+struct LogSigma {
+  double log_median = 0;
+  double standard_error = 0;
+};
+
+LogSigma LogSigmaOf(const std::vector<double>& sigmas) {
+  std::vector<double> logs, deviations;
+  for (double sigma : sigmas) logs.push_back(std::log(std::max(sigma, 1e-3)));
+  const double median = Median(logs);
+  for (double l : logs) deviations.push_back(std::abs(l - median));
+  const double spread = 1.4826 * Median(std::move(deviations));
+  return {median, std::sqrt(M_PI / 2.0) * spread / std::sqrt(static_cast<double>(logs.size()))};
+}
+
+/// Fewer views than this and a camera's own σ is too rough to weigh it by.
+constexpr size_t kMinViewsForOwnSigma = 3;
+/// Standard errors of the difference beyond which a camera's σ is its own.
+constexpr double kOwnSigmaStandardErrors = 3.0;
+
+}  // namespace
+
 double DetectionSigmaPx(const Problem& problem) {
   std::vector<double> sigmas;
-  for (const View& view : problem.views) {
-    const double n = static_cast<double>(view.p_target.size());
-    if (view.used && n > 3) sigmas.push_back(view.pnp_rms_px * std::sqrt(n / (2.0 * n - 6.0)));
+  for (const View& view : problem.views)
+    if (const std::optional<double> sigma = ViewSigmaPx(view)) sigmas.push_back(*sigma);
+  return SigmaOf(std::move(sigmas));
+}
+
+std::vector<double> CameraSigmasPx(const Problem& problem) {
+  std::vector<double> every;
+  std::vector<std::vector<double>> sigmas(problem.dataset->cameras.size());
+  for (const View& view : problem.views)
+    if (const std::optional<double> sigma = ViewSigmaPx(view)) {
+      sigmas[view.camera].push_back(*sigma);
+      every.push_back(*sigma);
+    }
+  const double all = DetectionSigmaPx(problem);
+  std::vector<double> out(sigmas.size(), all);
+  if (every.empty()) return out;
+  const LogSigma pooled = LogSigmaOf(every);
+  for (size_t k = 0; k < sigmas.size(); ++k) {
+    if (sigmas[k].size() < kMinViewsForOwnSigma) continue;
+    const LogSigma own = LogSigmaOf(sigmas[k]);
+    const double error = std::hypot(own.standard_error, pooled.standard_error);
+    if (std::abs(own.log_median - pooled.log_median) > kOwnSigmaStandardErrors * error)
+      out[k] = SigmaOf(std::move(sigmas[k]));
   }
-  return std::max(Median(sigmas), 1e-3);
+  return out;
+}
+
+std::vector<double> CameraWeights(const Problem& problem) {
+  const double all = DetectionSigmaPx(problem);
+  std::vector<double> weight;
+  for (double sigma : CameraSigmasPx(problem)) weight.push_back(all / sigma);
+  return weight;
 }
 
 }  // namespace handeye::internal

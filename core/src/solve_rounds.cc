@@ -166,6 +166,7 @@ std::vector<FoldError> HeldOutErrors(const Problem& problem, const Initialisatio
   std::vector<int> poses;
   for (size_t j = 0; j < views_at_pose.size(); ++j)
     if (!views_at_pose[j].empty()) poses.push_back(static_cast<int>(j));
+  const std::vector<double> weight = CameraWeights(problem);
   std::vector<FoldError> out(folds);
   for (int f = 0; f < folds; ++f) {
     std::vector<int> left_out;
@@ -187,8 +188,9 @@ std::vector<FoldError> HeldOutErrors(const Problem& problem, const Initialisatio
     for (int v : left_out) {
       const View& view = problem.views[v];
       if (!r.T_cam_mount[view.camera]) continue;
+      const double w = weight[view.camera];
       for (double e : ViewErrors(scored, view, *r.T_cam_mount[view.camera], r.T_holder_target[0])) {
-        out[f].sum_sq_px += e * e;
+        out[f].sum_sq_px += w * w * e * e;
         ++out[f].points;
       }
     }

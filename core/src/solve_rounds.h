@@ -34,7 +34,8 @@ void CrossValidate(const Problem& problem, const Initialisation& init,
                    std::vector<CameraResult::CrossValidation>* out);
 
 /// The views of a fold's robot poses predicted by the joint solve without
-/// them: squared pixel errors summed over their points, and the count.
+/// them: squared pixel errors summed over their points, each camera's
+/// weighed as the solve weighs it (CameraWeights), and the count.
 struct FoldError {
   bool solved = false;
   double sum_sq_px = 0;

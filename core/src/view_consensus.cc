@@ -228,11 +228,11 @@ int VoteCamera(Problem* problem, const std::vector<int>& ids, const Eigen::Vecto
 int RejectInconsistentMotions(Problem* problem) {
   int rejected = 0;
   const Eigen::Vector3d centre = TargetCentre(*problem->dataset->target);
-  const double pixel_sigma_px = DetectionSigmaPx(*problem);
+  const std::vector<double> pixel_sigma_px = CameraSigmasPx(*problem);
   const std::optional<Eigen::Isometry3d> half_turn = HalfTurnSymmetry(*problem->dataset->target);
   if (half_turn) NumberViewsAlike(problem, *half_turn);
-  for (const std::vector<int>& ids : problem->camera_views)
-    rejected += VoteCamera(problem, ids, centre, pixel_sigma_px, half_turn);
+  for (size_t k = 0; k < problem->camera_views.size(); ++k)
+    rejected += VoteCamera(problem, problem->camera_views[k], centre, pixel_sigma_px[k], half_turn);
   if (rejected) IndexUsedViews(problem);
   return rejected;
 }
@@ -315,7 +315,7 @@ std::optional<RobotPrior> EstimateRobotPrior(
     const TargetPoses& T_holder_target) {
   const Dataset& dataset = *problem.dataset;
   const Eigen::Vector3d centre = TargetCentre(*dataset.target);
-  const double pixel_sigma_px = DetectionSigmaPx(problem);
+  const std::vector<double> pixel_sigma_px = CameraSigmasPx(problem);
   std::vector<double> chain_rms, pnp_rms, across_m, angle_rad, pnp_across_m2, pnp_rotation_rad2;
   for (const View& view : problem.views) {
     if (!view.used || !T_cam_mount[view.camera]) continue;
@@ -329,7 +329,8 @@ std::optional<RobotPrior> EstimateRobotPrior(
     const Eigen::Vector3d ray = (*view.T_cam_target * centre).normalized();
     across_m.push_back((offset - offset.dot(ray) * ray).norm());
     angle_rad.push_back(RotationDistance(chain.rotation(), view.T_cam_target->rotation()));
-    const PnpNoise noise = PnpNoiseOf(view, dataset.cameras[view.camera], centre, pixel_sigma_px);
+    const PnpNoise noise =
+        PnpNoiseOf(view, dataset.cameras[view.camera], centre, pixel_sigma_px[view.camera]);
     pnp_across_m2.push_back(noise.across_m2);
     pnp_rotation_rad2.push_back(noise.rotation_rad2);
   }
@@ -366,7 +367,7 @@ std::optional<RobotPrior> EstimateRobotPrior(
     reach_m.push_back(pose.T_base_ee.translation().norm());
   prior.sigma_m = std::max({beyond_pnp(across_sigma_m, pnp_across_variance_m2),
                             prior.sigma_rad * Median(reach_m), 1e-5});
-  prior.pixel_sigma_px = pixel_sigma_px;
+  prior.pixel_sigma_px = DetectionSigmaPx(problem);
   return prior;
 }
 

@@ -1,0 +1,82 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Cameras that detect the target worse than the others (blurred, distant,
+// lower resolution): the joint solve weighs each camera by its own detection
+// noise (core/src/residuals.h, CameraWeights), so the others keep their
+// accuracy and their sigma.
+
+#include <catch2/catch.hpp>
+#include <random>
+
+#include "handeye/core/calibration.h"
+#include "handeye/core/evaluation.h"
+#include "support/projected_scene.h"
+
+using namespace handeye;
+
+namespace {
+
+// A medium cell of 4 cameras and 20 poses, exact robot, corners projected
+// with 0.05 px of noise; the intrinsics taken as exact.
+SyntheticScene Scene(std::uint64_t seed) {
+  SceneOptions options;
+  options.cell = "medium";
+  options.num_cameras = 4;
+  options.num_poses = 20;
+  options.seed = seed;
+  return test::ProjectedScene(options, 0.05, 6, seed * 17 + 3);
+}
+
+// Gaussian noise of `px` per axis added to every corner camera `name` detected.
+void AddNoise(Dataset* dataset, const std::string& name, double px, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, px);
+  for (Observation& observation : dataset->observations)
+    if (observation.camera == name)
+      for (Eigen::Vector2d& p : observation.points_px) p += Eigen::Vector2d(noise(rng), noise(rng));
+}
+
+CalibrationOptions ExactIntrinsics() {
+  CalibrationOptions options;
+  options.intrinsics_sigma = GivenIntrinsicsSigma{0.0, 0.0};
+  return options;
+}
+
+}  // namespace
+
+TEST_CASE("one camera that detects 20 times worse leaves the others' accuracy and sigma",
+          "[camera_weights]") {
+  for (const std::uint64_t seed : {1, 2, 3}) {
+    INFO("seed " << seed);
+    const SyntheticScene scene = Scene(seed);
+    const std::string noisy = scene.dataset.cameras[1].name;
+    Dataset blurred = scene.dataset;
+    AddNoise(&blurred, noisy, 1.0, seed);
+    const CalibrationResult clean = Calibrate(scene.dataset, ExactIntrinsics());
+    const CalibrationResult worse = Calibrate(blurred, ExactIntrinsics());
+    const Evaluation clean_error = EvaluateAgainstTruth(clean, scene.truth);
+    const Evaluation worse_error = EvaluateAgainstTruth(worse, scene.truth);
+    double others_clean = 0, others_worse = 0;
+    for (size_t k = 0; k < clean.cameras.size(); ++k) {
+      const CameraResult& a = clean.cameras[k];
+      const CameraResult& b = worse.cameras[k];
+      REQUIRE(a.sigma);
+      REQUIRE(b.sigma);
+      INFO("camera " << a.name << ": error " << clean_error.cameras[k].translation_mm << " -> "
+                     << worse_error.cameras[k].translation_mm << " mm, sigma "
+                     << a.sigma->position_mm << " -> " << b.sigma->position_mm << " mm");
+      if (a.name == noisy) {
+        // Its own sigma grows with its noise (20x the others').
+        CHECK(b.sigma->position_mm > 5.0 * a.sigma->position_mm);
+        continue;
+      }
+      // Weighed alike, the noisy camera's residuals set every camera's sigma
+      // (measured before the weights: 5-10x the clean one).
+      CHECK(b.sigma->position_mm < 1.5 * a.sigma->position_mm);
+      CHECK(b.sigma->position_mm > a.sigma->position_mm / 1.5);
+      others_clean += clean_error.cameras[k].translation_mm;
+      others_worse += worse_error.cameras[k].translation_mm;
+    }
+    // Weighed alike, the others moved 3-5x further from the truth on rendered cells.
+    CHECK(others_worse < 1.5 * others_clean + 0.01 * 3);
+  }
+}
