@@ -8,6 +8,8 @@
 #include <map>
 #include <memory>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "cli_numbers.h"
 #include "commands.h"
@@ -37,6 +39,7 @@ struct SimulateArgs {
   int swap_poses = 0;
   std::uint64_t pose_seed = 0;
   std::string bump_camera;  // NAME:MM:DEG
+  std::vector<std::string> poor_cameras;  // NAME:BLUR:NOISE
   bool see_through = false;
   bool visible_only = false;
   bool no_distortion = false;
@@ -63,6 +66,39 @@ std::pair<int, int> ParsePair(const std::string& option, const std::string& text
   return {a, b};
 }
 
+/// A camera of the scene and two finite numbers, NAME:A:B.
+struct CameraAndTwo {
+  std::string camera;
+  double first = 0, second = 0;
+};
+
+CameraAndTwo ParseCameraAndTwo(const std::string& option, const std::string& text,
+                               const std::string& form, int cameras) {
+  const std::string expected = form + ", got '" + text + "'";
+  const auto first = text.find(':');
+  const auto second = first == std::string::npos ? first : text.find(':', first + 1);
+  if (second == std::string::npos) throw BadOption(option, "expected " + expected);
+  CameraAndTwo out;
+  out.camera = text.substr(0, first);
+  try {
+    size_t used = 0;
+    const std::string a = text.substr(first + 1, second - first - 1);
+    const std::string b = text.substr(second + 1);
+    out.first = std::stod(a, &used);
+    if (used != a.size()) throw std::invalid_argument(a);
+    out.second = std::stod(b, &used);
+    if (used != b.size()) throw std::invalid_argument(b);
+  } catch (const std::exception&) {
+    throw BadOption(option, "expected " + expected);
+  }
+  bool known = false;
+  for (int k = 0; k < cameras; ++k) known = known || out.camera == "cam" + std::to_string(k);
+  if (!known || !std::isfinite(out.first) || !std::isfinite(out.second))
+    throw BadOption(option, "expected a camera cam0 … cam" + std::to_string(cameras - 1) +
+                                " and finite numbers: " + expected);
+  return out;
+}
+
 SceneOptions MakeSceneOptions(const SimulateArgs& args) {
   SceneOptions options;
   if (!args.preset.empty() && !args.cell.empty())
@@ -84,27 +120,11 @@ SceneOptions MakeSceneOptions(const SimulateArgs& args) {
   options.swap_poses = args.swap_poses;
   options.pose_seed = args.pose_seed;
   if (!args.bump_camera.empty()) {
-    const std::string expected = "NAME:MM:DEG (e.g. cam1:5:0.2), got '" + args.bump_camera + "'";
-    const auto first = args.bump_camera.find(':');
-    const auto second = first == std::string::npos ? first : args.bump_camera.find(':', first + 1);
-    if (second == std::string::npos) throw BadOption("--bump-camera", "expected " + expected);
-    options.bumped_camera = args.bump_camera.substr(0, first);
-    try {
-      size_t used = 0;
-      const std::string mm = args.bump_camera.substr(first + 1, second - first - 1);
-      const std::string deg = args.bump_camera.substr(second + 1);
-      options.bump_mm = std::stod(mm, &used);
-      if (used != mm.size()) throw std::invalid_argument(mm);
-      options.bump_deg = std::stod(deg, &used);
-      if (used != deg.size()) throw std::invalid_argument(deg);
-    } catch (const std::exception&) {
-      throw BadOption("--bump-camera", "expected " + expected);
-    }
-    bool known = false;
-    for (int k = 0; k < args.cameras; ++k) known = known || options.bumped_camera == "cam" + std::to_string(k);
-    if (!known || !std::isfinite(options.bump_mm) || !std::isfinite(options.bump_deg))
-      throw BadOption("--bump-camera", "expected a camera cam0 … cam" + std::to_string(args.cameras - 1) +
-                                           " and finite numbers: " + expected);
+    const CameraAndTwo bump = ParseCameraAndTwo("--bump-camera", args.bump_camera,
+                                                "NAME:MM:DEG (e.g. cam1:5:0.2)", args.cameras);
+    options.bumped_camera = bump.camera;
+    options.bump_mm = bump.first;
+    options.bump_deg = bump.second;
   }
   if (!args.image_size.empty()) {
     const auto [w, h] = ParsePair("--image-size", args.image_size, "WIDTHxHEIGHT in pixels");
@@ -131,6 +151,14 @@ void RunSimulate(const SimulateArgs& args) {
   render.seed = args.seed;
   render.see_through = args.see_through;
   render.every_view = !args.visible_only;
+  for (const std::string& text : args.poor_cameras) {
+    const CameraAndTwo poor =
+        ParseCameraAndTwo("--poor-camera", text, "NAME:BLUR:NOISE (e.g. cam1:3:8)", args.cameras);
+    if (poor.first < 0 || poor.second < 0)
+      throw BadOption("--poor-camera",
+                      "expected a blur and a noise of 0 or more, got '" + text + "'");
+    render.camera_quality[poor.camera] = {poor.first, poor.second};
+  }
   std::string why;
   if (!render.Check(&why)) throw BadOption("--blur/--noise", "expected " + why);
   if (args.threads < 0) throw BadOption("--threads", "expected 0 (all cores) or more");
@@ -216,6 +244,11 @@ void RegisterSimulate(CLI::App& app) {
   cmd->add_option("--bump-camera", args->bump_camera,
                   "NAME:MM:DEG: that camera was knocked since calibration: moved MM along its x axis, "
                   "turned DEG about its y axis (ground_truth.json has the bumped pose)");
+  cmd->add_option(
+      "--poor-camera", args->poor_cameras,
+      "NAME:BLUR:NOISE: that camera's optics and sensor are poorer than the cell's (a cheaper or "
+      "more distant camera, a lens out of focus): blur sigma BLUR px and sensor noise NOISE grey "
+      "levels instead of its share of --blur and --noise; repeat for more cameras");
   cmd->add_flag("--see-through", args->see_through,
                 "a glass target: cameras behind it see its pattern mirrored (a printed one shows a plain back)");
   cmd->add_flag("--visible-only", args->visible_only,

@@ -26,6 +26,10 @@ bool RenderOptions::Check(std::string* why) const {
   if (supersampling < 1 || supersampling > 64) return fail("supersampling in [1, 64]");
   if (!std::isfinite(blur_sigma_px) || blur_sigma_px < 0) return fail("blur_sigma_px >= 0");
   if (!std::isfinite(noise_sigma) || noise_sigma < 0) return fail("noise_sigma >= 0");
+  for (const auto& [name, quality] : camera_quality)
+    if (!std::isfinite(quality.blur_sigma_px) || quality.blur_sigma_px < 0 ||
+        !std::isfinite(quality.noise_sigma) || quality.noise_sigma < 0)
+      return fail("camera " + name + "'s blur and noise >= 0");
   if (!std::isfinite(black_level) || !std::isfinite(white_level) || black_level < 0 ||
       white_level > 255 || !(black_level < white_level))
     return fail("0 <= black_level < white_level <= 255");

@@ -75,6 +75,11 @@ void RenderViews(const SyntheticScene& scene, const std::vector<View>& views, co
         RenderOptions options = render;
         options.seed = Mix(render.seed ^ Mix(view.pose * 0x10001u + view.camera));
         options.blur_sigma_px = CameraBlur(render.blur_sigma_px, render.seed, view.camera);
+        const auto own = render.camera_quality.find(scene.dataset.cameras[view.camera].name);
+        if (own != render.camera_quality.end()) {
+          options.blur_sigma_px = own->second.blur_sigma_px;
+          options.noise_sigma = own->second.noise_sigma;
+        }
         sink(i, RenderView(scene.dataset.cameras[view.camera], *scene.dataset.target,
                            TrueCameraFromTarget(scene, static_cast<int>(view.camera),
                                                 static_cast<int>(view.pose)),

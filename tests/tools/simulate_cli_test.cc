@@ -144,6 +144,9 @@ TEST_CASE("simulate rejects bad options with exit code 2 and says which", "[simu
       {"--image-size 10x10", "image size"},
       {"--pose-noise-mm -1", "translation noise"},
       {"--blur -1", "blur"},
+      {"--poor-camera cam1:3", "--poor-camera"},
+      {"--poor-camera cam9:3:8", "cam0 … cam3"},
+      {"--poor-camera cam1:-3:8", "0 or more"},
       {"--threads -1", "--threads"},
   };
   for (const auto& [args, message] : cases) {

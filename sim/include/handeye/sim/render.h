@@ -7,7 +7,9 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <map>
 #include <opencv2/core/mat.hpp>
+#include <string>
 
 #include "handeye/core/camera.h"
 #include "handeye/core/target.h"
@@ -41,6 +43,17 @@ struct RenderOptions {
   /// or from behind included); false renders only the views the truth counts.
   bool every_view = true;
   std::uint64_t seed = 1;
+  /// A camera whose optics and sensor differ from the cell's (a cheaper or
+  /// more distant camera, a lens out of focus): the blur σ (px) and sensor
+  /// noise σ (grey levels) it renders with.
+  struct CameraQuality {
+    double blur_sigma_px = 0;
+    double noise_sigma = 0;
+  };
+  /// By camera name: WriteSimulation() and DetectSimulated() render these
+  /// cameras with their own quality instead of their share of blur_sigma_px
+  /// and noise_sigma.
+  std::map<std::string, CameraQuality> camera_quality;
 
   /// False, with the reason in `*why`, when a value is out of its domain.
   bool Check(std::string* why) const;

@@ -19,7 +19,7 @@ namespace handeye {
 /// Each image gets its own noise/background seed derived from `render.seed`
 /// and the view, so the files do not depend on `threads`; camera k's blur is
 /// `render.blur_sigma_px` times a per-camera factor in [2/3, 4/3] (lenses
-/// differ), also fixed by `render.seed`.
+/// differ), also fixed by `render.seed`, unless `render.camera_quality` names it.
 void WriteSimulation(SyntheticScene* scene, const RenderOptions& render, const std::string& outdir,
                      int threads = 0,
                      const std::function<void(std::size_t, std::size_t)>& progress = {});
