@@ -18,6 +18,7 @@
 #include "motion_diversity.h"
 #include "pose_uncertainty.h"
 #include "problem.h"
+#include "residuals.h"
 #include "setup_mistakes.h"
 #include "view_consensus.h"
 
@@ -108,6 +109,26 @@ void FillResult(const Problem& problem, const Estimate& est, CalibrationResult* 
     result->cameras.push_back(cam);
   }
   result->T_target = est.shared_T_holder_target;
+}
+
+/// A note per camera that detects the target clearly worse or better than
+/// the others, and so weighs differently in the joint solve (CameraWeights).
+std::vector<std::string> CameraNoiseNotes(const Problem& problem) {
+  const double all = internal::DetectionSigmaPx(problem);
+  const std::vector<double> sigma = internal::CameraSigmasPx(problem);
+  std::vector<std::string> notes;
+  for (size_t k = 0; k < sigma.size(); ++k) {
+    if (sigma[k] == all) continue;
+    std::ostringstream note;
+    note.precision(2);
+    note << "camera '" << problem.dataset->cameras[k].name << "' detects the target with σ "
+         << sigma[k] << " px, " << sigma[k] / all << "× the " << all
+         << " px of all views: its residuals weigh " << all / sigma[k]
+         << "× theirs in the joint solve (blur, focus, exposure, resolution or distance set a "
+            "camera's σ)";
+    notes.push_back(note.str());
+  }
+  return notes;
 }
 
 /// A note naming the views the robot-motion vote numbered the other way
@@ -207,6 +228,8 @@ void PrepareViews(Calibration* c) {
     if (const std::string flipped = FlippedViewsNote(problem); !flipped.empty())
       c->result.notes.push_back(flipped);
   }
+  if (c->options.method == Method::kJoint)
+    for (const std::string& note : CameraNoiseNotes(problem)) c->result.notes.push_back(note);
   int used_views = 0;
   for (const View& view : problem.views) used_views += view.used ? 1 : 0;
   if (used_views < 3)
