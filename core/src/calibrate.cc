@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "calibrate_stages.h"
+#include "detection_noise.h"
 #include "diagnostics_internal.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
@@ -18,7 +19,6 @@
 #include "motion_diversity.h"
 #include "pose_uncertainty.h"
 #include "problem.h"
-#include "residuals.h"
 #include "setup_mistakes.h"
 #include "view_consensus.h"
 
@@ -114,16 +114,17 @@ void FillResult(const Problem& problem, const Estimate& est, CalibrationResult* 
 /// A note per camera that detects the target clearly worse or better than
 /// the others, and so weighs differently in the joint solve (CameraWeights).
 std::vector<std::string> CameraNoiseNotes(const Problem& problem) {
-  const double all = internal::DetectionSigmaPx(problem);
-  const std::vector<double> sigma = internal::CameraSigmasPx(problem);
+  const std::vector<double> sigma = internal::CameraSigmasPx(problem),
+                            weight = internal::CameraWeights(problem);
   std::vector<std::string> notes;
   for (size_t k = 0; k < sigma.size(); ++k) {
-    if (sigma[k] == all) continue;
+    if (weight[k] == 1.0) continue;
+    const double all = sigma[k] * weight[k];
     std::ostringstream note;
     note.precision(2);
     note << "camera '" << problem.dataset->cameras[k].name << "' detects the target with σ "
          << sigma[k] << " px, " << sigma[k] / all << "× the " << all
-         << " px of all views: its residuals weigh " << all / sigma[k]
+         << " px of all views: its residuals weigh " << weight[k]
          << "× theirs in the joint solve (blur, focus, exposure, resolution or distance set a "
             "camera's σ)";
     notes.push_back(note.str());

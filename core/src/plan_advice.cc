@@ -4,6 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
+
+#include "detection_noise.h"
 
 namespace handeye {
 namespace {
@@ -14,6 +18,36 @@ constexpr double kRegionGrowthM = 0.1;
 constexpr double kTiltGrowthRad = 10.0 * kDeg;
 /// The least ± taken for a solved pose (its σ can be tiny).
 constexpr double kMinPositionM = 1e-3, kMinRotationRad = 0.05 * kDeg;
+
+/// The detection noise σ (per axis) of each solved camera's views, from
+/// their residuals through the calibrated chain, in the order of `cameras`.
+std::vector<std::vector<double>> ViewSigmas(const CalibrationResult& result,
+                                            const std::vector<PlanCamera>& cameras) {
+  std::vector<std::vector<double>> sigmas(cameras.size());
+  for (const ViewResult& view : result.views)
+    for (size_t k = 0; k < cameras.size(); ++k)
+      if (view.used && view.camera == cameras[k].camera.name && view.rms_px > 0)
+        sigmas[k].push_back(view.rms_px / std::sqrt(2.0));
+  return sigmas;
+}
+
+/// Cameras that detect unlike the others, as the solve weighed them
+/// (SigmasApart): their own σ, and the cell's that of the others' views.
+void CameraNoise(const CalibrationResult& result, PlanCell* cell) {
+  const std::vector<std::vector<double>> sigmas = ViewSigmas(result, cell->cameras);
+  const std::vector<double> apart = internal::SigmasApart(sigmas);
+  std::vector<double> others;
+  for (size_t k = 0; k < apart.size(); ++k) {
+    cell->cameras[k].pixel_sigma_px = apart[k];
+    if (apart[k] == 0) others.insert(others.end(), sigmas[k].begin(), sigmas[k].end());
+  }
+  if (others.empty() ||
+      std::count(apart.begin(), apart.end(), 0.0) == static_cast<long>(apart.size()))
+    return;
+  std::nth_element(others.begin(), others.begin() + static_cast<long>(others.size() / 2),
+                   others.end());
+  cell->pixel_sigma_px = others[others.size() / 2];
+}
 
 /// The region the recorded poses span (see PlanCellOfResult).
 PlanRegion RegionOfPoses(const std::vector<PlannedPose>& recorded) {
@@ -78,6 +112,7 @@ PlanCell PlanCellOfResult(const Dataset& dataset, const CalibrationResult& resul
   cell.target_position_sigma_m = std::max(kMinPositionM, result.target_sigma ? result.target_sigma->position_mm / 1000.0 : 0.0);
   cell.target_rotation_sigma_rad = std::max(kMinRotationRad, result.target_sigma ? result.target_sigma->rotation_deg * kDeg : 0.0);
   if (cameras > 0 && sum_squares > 0) cell.pixel_sigma_px = std::sqrt(sum_squares / cameras / 2.0);
+  CameraNoise(result, &cell);
   cell.robot_sigma_mm = result.solver.robot_sigma_mm;
   cell.robot_sigma_deg = result.solver.robot_sigma_deg;
   cell.intrinsics_sigma = result.options.intrinsics_sigma;  // as the solve weighed them

@@ -161,7 +161,12 @@ Eigen::MatrixXd PoseInformation(const Model& model, const Eigen::Isometry3d& T_b
         J_u.col(at++) = J[3].col(0) * camera.params[0] + J[3].col(1) * camera.params[1];
       if (model.given_principal_point) J_u.middleCols(at, 2) = J[3].middleCols(2, 2);
     }
-    const Eigen::MatrixXd J_r = J[1] * P_robot;
+    // A camera with its own detection noise weighs as the solve weighs it
+    // (CameraWeights): its rows in units of the cell's σ.
+    const double own_sigma = cell.cameras[k].pixel_sigma_px;
+    if (own_sigma > 0) J_u *= cell.pixel_sigma_px / own_sigma;
+    const Eigen::MatrixXd J_r =
+        J[1] * P_robot * (own_sigma > 0 ? cell.pixel_sigma_px / own_sigma : 1.0);
     H += J_u.transpose() * J_u;
     if (!robot_error) continue;
     H_ur += J_u.transpose() * J_r;

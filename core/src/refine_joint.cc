@@ -13,12 +13,12 @@
 
 #include "chain_problem.h"
 #include "cost_functions.h"
+#include "detection_noise.h"
 #include "initialisation.h"
 #include "intrinsics_internal.h"
 #include "problem.h"
 #include "refine_internal.h"
 #include "refinement.h"
-#include "residuals.h"
 #include "robot_error.h"
 
 namespace handeye::internal {

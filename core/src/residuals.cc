@@ -8,6 +8,8 @@
 #include <limits>
 #include <utility>
 
+#include "detection_noise.h"
+
 namespace handeye::internal {
 namespace {
 
@@ -119,16 +121,10 @@ double DetectionSigmaPx(const Problem& problem) {
   return SigmaOf(std::move(sigmas));
 }
 
-std::vector<double> CameraSigmasPx(const Problem& problem) {
-  std::vector<double> every;
-  std::vector<std::vector<double>> sigmas(problem.dataset->cameras.size());
-  for (const View& view : problem.views)
-    if (const std::optional<double> sigma = ViewSigmaPx(view)) {
-      sigmas[view.camera].push_back(*sigma);
-      every.push_back(*sigma);
-    }
-  const double all = DetectionSigmaPx(problem);
-  std::vector<double> out(sigmas.size(), all);
+std::vector<double> SigmasApart(const std::vector<std::vector<double>>& sigmas) {
+  std::vector<double> every, out(sigmas.size(), 0.0);
+  for (const std::vector<double>& group : sigmas)
+    every.insert(every.end(), group.begin(), group.end());
   if (every.empty()) return out;
   const LogSigma pooled = LogSigmaOf(every);
   for (size_t k = 0; k < sigmas.size(); ++k) {
@@ -136,8 +132,20 @@ std::vector<double> CameraSigmasPx(const Problem& problem) {
     const LogSigma own = LogSigmaOf(sigmas[k]);
     const double error = std::hypot(own.standard_error, pooled.standard_error);
     if (std::abs(own.log_median - pooled.log_median) > kOwnSigmaStandardErrors * error)
-      out[k] = SigmaOf(std::move(sigmas[k]));
+      out[k] = SigmaOf(sigmas[k]);
   }
+  return out;
+}
+
+std::vector<double> CameraSigmasPx(const Problem& problem) {
+  std::vector<std::vector<double>> sigmas(problem.dataset->cameras.size());
+  for (const View& view : problem.views)
+    if (const std::optional<double> sigma = ViewSigmaPx(view))
+      sigmas[view.camera].push_back(*sigma);
+  const double all = DetectionSigmaPx(problem);
+  std::vector<double> out = SigmasApart(sigmas);
+  for (double& sigma : out)
+    if (sigma == 0) sigma = all;
   return out;
 }
 

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <vector>
 
+#include "detection_noise.h"
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
 #include "problem.h"

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "cost_jacobians.h"
+#include "detection_noise.h"
 #include "half_turn.h"
 #include "handeye/core/transform.h"
 #include "problem.h"

@@ -50,8 +50,9 @@ Camera ReadPlanIntrinsics(const JsonReader& r, const std::string& name, int widt
 
 PlanCamera ReadPlanCamera(const JsonReader& r, const SetupFrames& frames) {
   r.ExpectObject("a camera object");
-  r.RejectUnknownKeys({"name", "image_size", "intrinsics", "distortion", "horizontal_fov_deg", "refine_intrinsics",
-                       frames.camera_key, "pose_uncertainty"});
+  r.RejectUnknownKeys({"name", "image_size", "intrinsics", "distortion", "horizontal_fov_deg",
+                       "refine_intrinsics", frames.camera_key, "pose_uncertainty",
+                       "pixel_sigma_px"});
   PlanCamera out;
   const std::string name = r.Key("name").NonEmptyString("a camera name");
   const JsonReader size = r.Key("image_size");
@@ -65,6 +66,7 @@ PlanCamera ReadPlanCamera(const JsonReader& r, const SetupFrames& frames) {
     throw r.Key("refine_intrinsics").Error("expected true or false");
   out.T_mount_cam = ReadPose(r.Key(frames.camera_key), true);
   ReadUncertainty(r.Key("pose_uncertainty"), &out.position_sigma_m, &out.rotation_sigma_rad);
+  if (r.Has("pixel_sigma_px")) out.pixel_sigma_px = r.Key("pixel_sigma_px").Positive();
   return out;
 }
 
@@ -177,6 +179,7 @@ void SavePlanCell(const PlanCell& cell, const std::string& path) {
     c[frames.camera_key] = JsonFromTransform(camera.T_mount_cam);
     c["pose_uncertainty"] = {{"position_m", camera.position_sigma_m},
                              {"rotation_deg", camera.rotation_sigma_rad / kDeg}};
+    if (camera.pixel_sigma_px > 0) c["pixel_sigma_px"] = camera.pixel_sigma_px;
     j["cameras"].push_back(c);
   }
   j[frames.target_key] = JsonFromTransform(cell.T_holder_target);

@@ -256,3 +256,33 @@ TEST_CASE("Advice after a capture that left a camera at 4 views goes to that cam
   CHECK(after < 0.5 * advice.now.at("cam0").position_mm);
   for (const PlannedPose& pose : advice.next.poses) CHECK(InRegion(cell.region, pose.T_base_ee));
 }
+
+TEST_CASE("Advice predicts each camera's sigma with its own detection noise", "[plan][advise]") {
+  // One camera detects 10x worse than the others (0.1 px against 0.01 px per
+  // axis): the solve weighs it by its own noise, and advise predicts each
+  // camera with its own (a pooled σ put the others 4.9-5.0x above the
+  // solve's, the noisy one at 0.53x).
+  SyntheticScene scene = MediumScene(24, 8);
+  std::mt19937_64 rng(5);
+  AddProjectedObservations(&scene, 0.01, &rng);
+  std::normal_distribution<double> noise(0.0, 0.1);
+  for (Observation& obs : scene.dataset.observations)
+    if (obs.camera == "cam1")
+      for (Eigen::Vector2d& p : obs.points_px) p += Eigen::Vector2d(noise(rng), noise(rng));
+  CalibrationOptions options;
+  options.robot_sigma_mm = 0;  // the robot exact, as in the advice's cell
+  options.robot_sigma_deg = 0;
+  options.cross_terms = false;  // the planner's information has no pair terms
+  const CalibrationResult result = Calibrate(scene.dataset, options);
+  const PlanCell cell = PlanCellOfResult(scene.dataset, result, std::nullopt);
+  const std::map<std::string, PredictedSigma> now =
+      PredictSigmaOfViews(cell, RecordedPoses(scene.dataset, result));
+  for (const CameraResult& solved : result.cameras) {
+    REQUIRE(solved.sigma);
+    const double ratio = now.at(solved.name).own_position_mm / solved.sigma->OwnPositionMm();
+    INFO(solved.name << ": predicted " << now.at(solved.name).own_position_mm << " mm, reported "
+                     << solved.sigma->OwnPositionMm() << " mm");
+    CHECK(ratio > 0.7);
+    CHECK(ratio < 1.4);
+  }
+}

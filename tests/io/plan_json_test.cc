@@ -46,6 +46,7 @@ TEST_CASE("A cell file reads back as it was written", "[plan][io]") {
   const std::string path = test::TempDir("cell_round_trip") + "/cell.json";
   PlanCell cell = SmallCell();
   cell.intrinsics_sigma = {0.5, 2.0};
+  cell.cameras[0].pixel_sigma_px = 0.7;  // a camera that detects unlike the others
   SavePlanCell(cell, path);
   const PlanCell back = LoadPlanCell(path);
   CHECK(back.intrinsics_sigma.focal_percent == 0.5);
@@ -56,6 +57,7 @@ TEST_CASE("A cell file reads back as it was written", "[plan][io]") {
   CHECK(back.cameras[0].refine_intrinsics);
   CHECK(back.cameras[0].T_mount_cam.isApprox(cell.cameras[0].T_mount_cam, 1e-12));
   CHECK(back.cameras[0].rotation_sigma_rad == Approx(0.03));
+  CHECK(back.cameras[0].pixel_sigma_px == 0.7);
   CHECK(back.T_holder_target.isApprox(cell.T_holder_target, 1e-12));
   CHECK(back.region.box->isApprox(*cell.region.box));
   CHECK(back.region.taught.size() == 1);

@@ -44,6 +44,11 @@ struct PlanCamera {
   /// focal,principal_point`, or intrinsics not given): views at varied
   /// depths are then needed to tell focal length from distance.
   bool refine_intrinsics = false;
+  /// Its own detection noise σ per image axis (pixels) where it detects
+  /// unlike the others (blur, resolution, distance); 0: the cell's
+  /// PlanCell::pixel_sigma_px. `advise` sets it from each solved camera's
+  /// residuals.
+  double pixel_sigma_px = 0;
 };
 
 /// Where the robot may put the flange.
