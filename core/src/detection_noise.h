@@ -29,6 +29,10 @@ std::vector<double> CameraSigmasPx(const Problem& problem);
 /// against 0.49 mm) and gave them 8x the σ (2.26 against 0.28 mm).
 std::vector<double> CameraWeights(const Problem& problem);
 
+/// The median of per-view σ estimates `sigmas`, never below a thousandth of
+/// a pixel (DetectionSigmaPx's, over all views).
+double MedianSigmaPx(std::vector<double> sigmas);
+
 /// Per group (a camera's views' σ estimates): the median of its own where it
 /// differs from all groups' together by more than three standard errors of
 /// the difference (from the spread of the estimates), else 0; 0 also for a

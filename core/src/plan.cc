@@ -121,13 +121,13 @@ bool PlanCell::Check(std::string* why) const {
     return fail("max_view_angle_deg between 0 and 90");
   if (!(constraints.margin_px >= 0) || !(constraints.min_square_px >= 0))
     return fail("non-negative margin_px and min_square_px");
-  for (const PlanCamera& camera : cameras)
+  for (const PlanCamera& camera : cameras) {
     if (!(camera.pixel_sigma_px >= 0) || !std::isfinite(camera.pixel_sigma_px))
       return fail("camera " + camera.camera.name +
                   ": a detection noise pixel_sigma_px of 0 (the cell's) or more");
-  for (const PlanCamera& camera : cameras)
     if (!(camera.position_sigma_m > 0) || !(camera.rotation_sigma_rad > 0))
       return fail("a positive position and rotation uncertainty for camera " + camera.camera.name);
+  }
   if (!(target_position_sigma_m > 0) || !(target_rotation_sigma_rad > 0))
     return fail("a positive uncertainty of the target's pose");
   return true;

@@ -37,16 +37,16 @@ void CameraNoise(const CalibrationResult& result, PlanCell* cell) {
   const std::vector<std::vector<double>> sigmas = ViewSigmas(result, cell->cameras);
   const std::vector<double> apart = internal::SigmasApart(sigmas);
   std::vector<double> others;
+  bool any_apart = false;
   for (size_t k = 0; k < apart.size(); ++k) {
     cell->cameras[k].pixel_sigma_px = apart[k];
-    if (apart[k] == 0) others.insert(others.end(), sigmas[k].begin(), sigmas[k].end());
+    if (apart[k] > 0)
+      any_apart = true;
+    else
+      others.insert(others.end(), sigmas[k].begin(), sigmas[k].end());
   }
-  if (others.empty() ||
-      std::count(apart.begin(), apart.end(), 0.0) == static_cast<long>(apart.size()))
-    return;
-  std::nth_element(others.begin(), others.begin() + static_cast<long>(others.size() / 2),
-                   others.end());
-  cell->pixel_sigma_px = others[others.size() / 2];
+  if (any_apart && !others.empty())
+    cell->pixel_sigma_px = internal::MedianSigmaPx(std::move(others));
 }
 
 /// The region the recorded poses span (see PlanCellOfResult).

@@ -164,9 +164,9 @@ Eigen::MatrixXd PoseInformation(const Model& model, const Eigen::Isometry3d& T_b
     // A camera with its own detection noise weighs as the solve weighs it
     // (CameraWeights): its rows in units of the cell's σ.
     const double own_sigma = cell.cameras[k].pixel_sigma_px;
-    if (own_sigma > 0) J_u *= cell.pixel_sigma_px / own_sigma;
-    const Eigen::MatrixXd J_r =
-        J[1] * P_robot * (own_sigma > 0 ? cell.pixel_sigma_px / own_sigma : 1.0);
+    const double weight = own_sigma > 0 ? cell.pixel_sigma_px / own_sigma : 1.0;
+    J_u *= weight;
+    const Eigen::MatrixXd J_r = J[1] * P_robot * weight;
     H += J_u.transpose() * J_u;
     if (!robot_error) continue;
     H_ur += J_u.transpose() * J_r;

@@ -88,9 +88,6 @@ std::optional<double> ViewSigmaPx(const View& view) {
   return view.pnp_rms_px * std::sqrt(n / (2.0 * n - 6.0));
 }
 
-/// The median of `sigmas`, and never below a thousandth of a pixel.
-double SigmaOf(std::vector<double> sigmas) { return std::max(Median(std::move(sigmas)), 1e-3); }
-
 /// The log of the median of per-view σ estimates and its standard error,
 /// from their spread (the MAD; a median's variance is π/2 a mean's).
 struct LogSigma {
@@ -114,11 +111,15 @@ constexpr double kOwnSigmaStandardErrors = 3.0;
 
 }  // namespace
 
+double MedianSigmaPx(std::vector<double> sigmas) {
+  return std::max(Median(std::move(sigmas)), 1e-3);
+}
+
 double DetectionSigmaPx(const Problem& problem) {
   std::vector<double> sigmas;
   for (const View& view : problem.views)
     if (const std::optional<double> sigma = ViewSigmaPx(view)) sigmas.push_back(*sigma);
-  return SigmaOf(std::move(sigmas));
+  return MedianSigmaPx(std::move(sigmas));
 }
 
 std::vector<double> SigmasApart(const std::vector<std::vector<double>>& sigmas) {
@@ -132,7 +133,7 @@ std::vector<double> SigmasApart(const std::vector<std::vector<double>>& sigmas) 
     const LogSigma own = LogSigmaOf(sigmas[k]);
     const double error = std::hypot(own.standard_error, pooled.standard_error);
     if (std::abs(own.log_median - pooled.log_median) > kOwnSigmaStandardErrors * error)
-      out[k] = SigmaOf(sigmas[k]);
+      out[k] = MedianSigmaPx(sigmas[k]);
   }
   return out;
 }
