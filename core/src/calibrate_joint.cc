@@ -181,17 +181,6 @@ Refinement RobustJointRounds(Calibration* c, Initialisation* init,
 }
 
 constexpr int kModelFolds = 4;
-/// Held-out RMS within this factor of each other: the candidates predict
-/// alike, and the model with the σ the views suggested stays. The issue's
-/// bar (issue 24): the default predicts no worse than any candidate by more
-/// than 5 %. Before the candidate at the solved poses' σ (below), a factor
-/// 1.25 kept the model on rendered ChArUco cells whose exact robot predicted
-/// 7-22 % better but was 1.6-1.9 times as far from the truth as the solve
-/// given the true σ; there the model at the solved poses' σ predicts best
-/// (0.113-0.131 px against the exact robot's 0.123-0.155). On METRIC with
-/// the principal points refined the three are within 4.1 % (the exact robot
-/// best, 0.629 mm from the ground truth against the model's 0.557 mm).
-constexpr double kModelsAlikeHeldOut = 1.05;
 constexpr char kExactRobot[] = "exact robot";
 constexpr char kRobotModelled[] = "robot error modelled";
 constexpr char kRobotSettled[] = "robot error modelled at the solved poses' σ";
@@ -242,18 +231,12 @@ ModelChoice CompareRobotModels(const Calibration& c, const Initialisation& init,
     }
   }
   // The model the views suggested (the robot's error where they show it
-  // clearly, else the exact robot), unless another candidate predicts
-  // clearly better: then the one that predicts best.
-  const ModelCandidate& suggested = candidates[robot.chain_to_pnp >= kClearChainToPnp ? 1 : 0];
+  // clearly, else the exact robot), then the one at the solved poses' σ.
   ModelChoice choice;
   choice.folds = kModelFolds;
-  choice.chosen = suggested.name;
-  const auto best = std::min_element(candidates.begin(), candidates.end(),
-                                     [](const ModelCandidate& a, const ModelCandidate& b) {
-                                       return a.held_out_rms_px < b.held_out_rms_px;
-                                     });
-  if (points > 0 && suggested.held_out_rms_px > kModelsAlikeHeldOut * best->held_out_rms_px)
-    choice.chosen = best->name;
+  choice.chosen = ModelByHeldOut(
+      candidates,
+      {robot.chain_to_pnp >= kClearChainToPnp ? size_t{1} : size_t{0}, candidates.size() - 1});
   choice.candidates = candidates;
   return choice;
 }

@@ -133,4 +133,18 @@ void SettleRobotSigma(const Problem& problem, const Initialisation& init,
   robot->settled_dof_scale = kept > 0 ? std::min(std::sqrt(poses / kept), 2.0) : 2.0;
 }
 
+std::string ModelByHeldOut(const std::vector<ModelCandidate>& candidates,
+                           const std::vector<size_t>& preferred) {
+  const auto best = std::min_element(candidates.begin(), candidates.end(),
+                                     [](const ModelCandidate& a, const ModelCandidate& b) {
+                                       return a.held_out_rms_px < b.held_out_rms_px;
+                                     });
+  if (best == candidates.end()) return "";
+  if (best->points == 0) return candidates[preferred.at(0)].name;
+  for (const size_t i : preferred)
+    if (candidates.at(i).held_out_rms_px <= kModelsAlikeHeldOut * best->held_out_rms_px)
+      return candidates[i].name;
+  return best->name;
+}
+
 }  // namespace handeye::internal

@@ -5,6 +5,7 @@
 // (view_consensus.cc, robot_error.cc).
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "handeye/core/calibration.h"
@@ -80,5 +81,28 @@ constexpr double kClearChainToPnp = 1.2;
 std::optional<RobotPrior> EstimateRobotPrior(
     const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
     const TargetPoses& T_holder_target);
+
+/// Held-out RMS within this factor of each other: the candidates predict
+/// alike. The issue's bar (issue 24): the default predicts no worse than any
+/// candidate by more than 5 %. Before the candidate at the solved poses' σ, a
+/// factor 1.25 kept the model on rendered ChArUco cells whose exact robot
+/// predicted 7-22 % better but was 1.6-1.9 times as far from the truth as the
+/// solve given the true σ; there the model at the solved poses' σ predicts
+/// best (0.113-0.131 px against the exact robot's 0.123-0.155). On METRIC
+/// with the principal points refined the three are within 4.1 % (the exact
+/// robot best, 0.629 mm from the ground truth against the model's 0.557 mm).
+constexpr double kModelsAlikeHeldOut = 1.05;
+
+/// The robot model held-out poses choose (ModelCandidate::held_out_rms_px):
+/// of the candidates that predict alike with the best, the first of
+/// `preferred` (indices into `candidates`), else the best; without held-out
+/// points, the first preferred. Where the views show the robot's error, a
+/// quarter of the poses left out can make the exact robot predict a little
+/// better by chance: on bench/leave-out's rendered captures (robot 0.1 mm,
+/// focal length and principal point refined) it won 3 of 8 splits of one
+/// capture, in two within 3 % of the model at the solved poses' σ, and moved
+/// the cameras 2-5 times as far from the truth as the modelled splits.
+std::string ModelByHeldOut(const std::vector<ModelCandidate>& candidates,
+                           const std::vector<size_t>& preferred);
 
 }  // namespace handeye::internal

@@ -13,6 +13,7 @@
 #include "handeye/core/evaluation.h"
 #include "handeye/core/plan.h"
 #include "handeye/sim/plan_cell.h"
+#include "robot_error.h"
 #include "support/projected_scene.h"
 
 using namespace handeye;
@@ -138,4 +139,43 @@ TEST_CASE(
   INFO("RMS true error over RMS own sigma: " << ratio << " over " << cameras << " cameras");
   CHECK(ratio < 1.35);
   CHECK(ratio > 0.7);
+}
+
+TEST_CASE("held-out poses keep the suggested model, then the solved poses' sigma, then the best",
+          "[robot_model]") {
+  using internal::ModelByHeldOut;
+  auto candidate = [](const char* name, double rms, int points = 100) {
+    ModelCandidate c;
+    c.name = name;
+    c.held_out_rms_px = rms;
+    c.points = points;
+    return c;
+  };
+  auto candidates = [&](double exact, double modelled, double settled) {
+    return std::vector<ModelCandidate>{
+        candidate("exact robot", exact), candidate("robot error modelled", modelled),
+        candidate("robot error modelled at the solved poses' σ", settled)};
+  };
+  const std::vector<size_t> modelled_first = {1, 2}, exact_first = {0, 2};
+  // Within 5 % of the best: the suggested one stays.
+  CHECK(ModelByHeldOut(candidates(0.100, 0.104, 0.120), modelled_first) == "robot error modelled");
+  CHECK(ModelByHeldOut(candidates(0.104, 0.100, 0.100), exact_first) == "exact robot");
+  // The suggested one out: the solved poses' σ where it predicts alike with the
+  // best (a leave-out split of a rendered capture: 0.168, 0.209, 0.168) ...
+  CHECK(ModelByHeldOut(candidates(0.168, 0.209, 0.168), modelled_first) ==
+        "robot error modelled at the solved poses' σ");
+  CHECK(ModelByHeldOut(candidates(0.175, 0.230, 0.180), modelled_first) ==
+        "robot error modelled at the solved poses' σ");
+  // ... else the best.
+  CHECK(ModelByHeldOut(candidates(0.126, 0.163, 0.137), modelled_first) == "exact robot");
+  CHECK(ModelByHeldOut(candidates(0.200, 0.100, 0.150), exact_first) == "robot error modelled");
+  // Two candidates (no settled σ apart): the suggested, else the best.
+  const std::vector<ModelCandidate> two = {candidate("exact robot", 0.10),
+                                           candidate("robot error modelled", 0.20)};
+  CHECK(ModelByHeldOut(two, {1, 1}) == "exact robot");
+  CHECK(ModelByHeldOut(two, {0, 1}) == "exact robot");
+  // No points held out: the suggested one.
+  const std::vector<ModelCandidate> none = {candidate("exact robot", 0, 0),
+                                            candidate("robot error modelled", 0, 0)};
+  CHECK(ModelByHeldOut(none, {1, 1}) == "robot error modelled");
 }

@@ -346,7 +346,8 @@ struct ModelCandidate {
 /// and (where they differ) the one under the σ the solved poses show each
 /// predict the views of every fold of poses from the other folds; the model
 /// the views suggested is kept unless another candidate predicts more than
-/// 5 % better, and then the one that predicts best is taken.
+/// 5 % better; then the one under the solved poses' σ where it predicts within
+/// 5 % of the best, else the one that predicts best.
 struct ModelChoice {
   std::string chosen;  ///< a candidate's name
   int folds = 0;       ///< folds over the robot poses
