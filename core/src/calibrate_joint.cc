@@ -323,8 +323,10 @@ void NoteRobotModel(Calibration* c, const RobotPrior& robot) {
   if (robot.CovarianceApart())
     note << "; the solved poses show σ " << robot.CovarianceSigmaM() * 1000.0 << " mm and "
          << robot.CovarianceSigmaRad() * 180.0 / M_PI << " deg (" << robot.settled_dof_scale
-         << "x their spread about the solution: the solved cameras and target took up part of it), "
-            "which the cameras' sigma assumes";
+         << "x their spread about the solution: the solved cameras"
+         << (c->options.refine_intrinsics != kNoIntrinsics ? ", target and refined intrinsics"
+                                                           : " and target")
+         << " took up part of it), which the cameras' sigma assumes";
   c->result.notes.push_back(note.str());
 }
 

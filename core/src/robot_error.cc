@@ -126,10 +126,15 @@ void SettleRobotSigma(const Problem& problem, const Initialisation& init,
   }
   robot->settled_sigma_m = settled.settled_sigma_m;
   robot->settled_sigma_rad = settled.settled_sigma_rad;
-  int poses = 0, cameras = 0;
+  // REML's count: the records' degrees of freedom (6 per pose) less those
+  // the solved cameras, the target and the refined intrinsics took.
+  int poses = 0;
+  double taken = 6;  // the target
   for (const auto& T : solved.T_mount_holder) poses += T ? 1 : 0;
-  for (const auto& T : solved.T_cam_mount) cameras += T ? 1 : 0;
-  const double kept = poses - cameras - 1;
+  for (size_t k = 0; k < solved.T_cam_mount.size(); ++k)
+    if (solved.T_cam_mount[k])
+      taken += 6 + (k < init.free_intrinsics.size() ? init.free_intrinsics[k].size() : 0);
+  const double kept = poses - taken / 6;
   robot->settled_dof_scale = kept > 0 ? std::min(std::sqrt(poses / kept), 2.0) : 2.0;
 }
 
