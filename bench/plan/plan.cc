@@ -107,7 +107,8 @@ Outcome Solve(const SyntheticScene& scene, const Settings& settings) {
 
 /// The sampler's and the planned capture solved with the true intrinsics
 /// ("true"), the given ones off and refined ("refined", what `settings`
-/// asks), off and held ("held") and none given ("none"): mean errors into `variants`.
+/// asks), off and held ("held") and none given ("none"): mean errors into
+/// `variants`, and RMS reported σ under NAME/sigma.
 void SolveVariants(const SyntheticScene& sampler, const SyntheticScene& planned, const Settings& settings,
                    std::map<std::string, std::vector<double>>* variants) {
   Settings exact = settings, held = settings, none = settings;
@@ -121,7 +122,18 @@ void SolveVariants(const SyntheticScene& sampler, const SyntheticScene& planned,
                                         Variant("held", &held), Variant("none", &none)}) {
       const Outcome o = Solve(*scene, *variant);
       if (!o.solved) std::fprintf(stderr, "  %s/%s: %s\n", capture, name, o.why.c_str());
-      if (o.solved) (*variants)[std::string(capture) + "/" + name].push_back(o.mean_mm);
+      if (o.solved) {
+        (*variants)[std::string(capture) + "/" + name].push_back(o.mean_mm);
+        // What the solve says the data tell: the true intrinsics' solve by its
+        // views alone (its σ less what the given intrinsics' prior adds), the
+        // others whole. RMS over the cameras.
+        const auto& sigma = std::string(name) == "true" ? o.own_sigma_mm : o.sigma_mm;
+        double sum_sq = 0;
+        for (const auto& [camera, value] : sigma) sum_sq += value * value;
+        if (!sigma.empty())
+          (*variants)[std::string(capture) + "/" + name + "/sigma"].push_back(
+              std::sqrt(sum_sq / sigma.size()));
+      }
       (*variants)[std::string(capture) + "/" + name + "/tried"].push_back(o.solved ? 1 : 0);
     }
 }
@@ -213,8 +225,9 @@ int main(int argc, char** argv) {
                "RMS true err / RMS predicted sigma", "RMS true err / RMS reported sigma", "plans failed", "planned views seen whole / claimed"});
   // With --refine-intrinsics: each capture solved with the true intrinsics,
   // with the given ones (off by --intrinsics-off) refined, and with none.
-  Table refinement({"cell", "cameras", "capture", "seeds solved", "true intrinsics mm", "off, refined mm",
-                    "refined / true", "off, held mm", "no intrinsics mm", "none / true"});
+  Table refinement({"cell", "cameras", "capture", "seeds solved", "true intrinsics mm",
+                    "off, refined mm", "refined / true", "reported σ refined / true (own)",
+                    "off, held mm", "no intrinsics mm", "none / true"});
   for (size_t c = 0; c < cell_names.size(); ++c) {
     const int cameras = std::stoi(camera_counts[std::min(c, camera_counts.size() - 1)]);
     std::map<std::string, std::vector<double>> variants;  // capture/variant -> mean error per seed
@@ -297,11 +310,22 @@ int main(int argc, char** argv) {
       auto ratio = [&](const std::string& name) {
         return std::isnan(mean(name)) ? std::string("-") : Format("%.2fx", mean(name) / mean("true"));
       };
+      // The same ratio in the σ the solves report: what the capture's data
+      // allow, where the error ratio is what the estimator reached.
+      auto rms_sigma = [&](const std::string& name) {
+        const auto it = v.find(capture + "/" + name + "/sigma");
+        return it == v.end() || it->second.empty() ? NAN : Rms(it->second);
+      };
+      const double sigma_refined = rms_sigma("refined"), sigma_true = rms_sigma("true");
+      const std::string sigma_ratio = std::isnan(sigma_refined / sigma_true)
+                                          ? std::string("-")
+                                          : Format("%.2fx", sigma_refined / sigma_true);
       refinement.Add({cell_names[c], std::to_string(cameras),
                       capture == "sampler" ? Format("sampler, %d poses", s.sampler_poses)
                                            : Format("planned, %d poses", s.planned_poses),
-                      solved_of("true"), mm("true"), mm("refined"), ratio("refined"), mm("held"),
-                      mm("none") + " (" + solved_of("none") + " solved)", ratio("none")});
+                      solved_of("true"), mm("true"), mm("refined"), ratio("refined"), sigma_ratio,
+                      mm("held"), mm("none") + " (" + solved_of("none") + " solved)",
+                      ratio("none")});
     }
     const double lo = *std::min_element(ratios.begin(), ratios.end());
     const double hi = *std::max_element(ratios.begin(), ratios.end());
