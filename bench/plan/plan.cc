@@ -198,6 +198,7 @@ int main(int argc, char** argv) {
   app.add_option("--robot-deg", s.robot_deg, "robot rotation error σ (deg)");
   app.add_option("--sampler-poses", s.sampler_poses, "poses of the simulator's own capture");
   app.add_option("--planned-poses", s.planned_poses, "poses of the planned capture");
+  app.add_option("--candidates", s.candidates, "candidate poses the planner draws in the region");
   app.add_option("--rough-mm", s.rough_mm, "the cell's rough poses: ± of each camera's and the target's position (mm)");
   app.add_option("--rough-deg", s.rough_deg, "the cell's rough poses: ± of their orientation (deg)");
   app.add_option("--uncertainty-margin", s.uncertainty_margin,
