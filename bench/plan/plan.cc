@@ -127,12 +127,12 @@ void SolveVariants(const SyntheticScene& sampler, const SyntheticScene& planned,
         // What the solve says the data tell: the true intrinsics' solve by its
         // views alone (its σ less what the given intrinsics' prior adds), the
         // others whole. RMS over the cameras.
-        const auto& sigma = std::string(name) == "true" ? o.own_sigma_mm : o.sigma_mm;
-        double sum_sq = 0;
-        for (const auto& [camera, value] : sigma) sum_sq += value * value;
+        std::vector<double> sigma;
+        for (const auto& [camera, value] :
+             std::string(name) == "true" ? o.own_sigma_mm : o.sigma_mm)
+          sigma.push_back(value);
         if (!sigma.empty())
-          (*variants)[std::string(capture) + "/" + name + "/sigma"].push_back(
-              std::sqrt(sum_sq / sigma.size()));
+          (*variants)[std::string(capture) + "/" + name + "/sigma"].push_back(Rms(sigma));
       }
       (*variants)[std::string(capture) + "/" + name + "/tried"].push_back(o.solved ? 1 : 0);
     }
