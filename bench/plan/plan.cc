@@ -46,6 +46,9 @@ struct Settings {
   // also solve the planned capture with the true intrinsics and with none.
   bool refine_intrinsics = false;
   bool no_intrinsics = false;  // the dataset gives no intrinsics (set per solve)
+  // The solves' camera-to-camera terms (CalibrationOptions::cross_terms),
+  // which the planner's information does not hold.
+  bool cross_terms = true;
 };
 
 /// One capture's outcome against the truth.
@@ -74,6 +77,7 @@ Outcome Solve(const SyntheticScene& scene, const Settings& settings) {
   try {
     CalibrationOptions options;
     if (settings.refine_intrinsics) options.refine_intrinsics = kFocal | kPrincipalPoint;
+    options.cross_terms = settings.cross_terms;
     if (settings.given_robot_sigma) {
       options.robot_sigma_mm = settings.robot_mm;
       options.robot_sigma_deg = settings.robot_deg / std::sqrt(3.0);
@@ -210,12 +214,18 @@ int main(int argc, char** argv) {
   app.add_flag("--refine-intrinsics", s.refine_intrinsics,
                "plan for and solve with --refine-intrinsics focal,principal_point, and table each capture "
                "solved with the true intrinsics, the given ones (--intrinsics-off) refined or held, and none");
+  bool no_cross_terms = false;
+  app.add_flag(
+      "--no-cross-terms", no_cross_terms,
+      "solve without the camera-to-camera terms, as the planner predicts (they reuse the points of "
+      "each view that other cameras share, which the σ the solve reports counts as new data)");
   std::string intrinsics_off = "0/0";
   app.add_option("--intrinsics-off", intrinsics_off,
                  "PCT/PX: the given intrinsics off by PCT % in focal length and PX in the principal point "
                  "(OffsetIntrinsics: even cameras f +, cx +, cy -; odd the other way); the observations are "
                  "the true cameras'");
   CLI11_PARSE(app, argc, argv);
+  s.cross_terms = !no_cross_terms;
   if (!ParseIntrinsicsOffset(intrinsics_off, &s.intrinsics_off)) {
     std::fprintf(stderr, "--intrinsics-off: PCT/PX, e.g. 1/3, got '%s'\n", intrinsics_off.c_str());
     return 2;
