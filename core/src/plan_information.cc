@@ -225,8 +225,11 @@ std::vector<PredictedSigma> SigmaOf(const Model& model, const Eigen::MatrixXd& i
   // with the shift's square at its median (MedianSquaredNorm), not its mean
   // (bench/plan, 4-6 cameras, 6 seeds: forecast over reported, median 1.37 /
   // 1.50 / 1.67 on small / medium / large cells with the mean, 1.24 / 1.32 /
-  // 1.45 with the median; the rest is views the simulator gives that the
-  // plan does not count on, and the solve's noise estimate).
+  // 1.45 with the median). What is left is mostly the solve's
+  // camera-to-camera terms, which use the points of a view that other cameras
+  // share once more per such camera, and its covariance counts them so; this
+  // information has them once (solved without them, bench_plan
+  // --no-cross-terms: 0.96 / 1.04 / 1.14).
   // own_position_mm has no shift: the σ of the views alone.
   const size_t cameras = model.camera_offset.size();
   std::vector<PredictedSigma> out(
