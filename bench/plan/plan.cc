@@ -11,8 +11,6 @@
 //
 //   bench_plan --cells small,medium,large --cameras 4,5,6 --seeds 6
 //   bench_plan --source images ...   (rendered and detected instead of projected)
-#include "handeye/core/plan.h"
-
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
@@ -22,6 +20,7 @@
 #include "handeye/core/calibration.h"
 #include "handeye/core/checkerboard.h"
 #include "handeye/core/evaluation.h"
+#include "handeye/core/plan.h"
 #include "handeye/sim/plan_cell.h"
 #include "handeye/sim/render.h"
 #include "handeye/sim/simulation.h"

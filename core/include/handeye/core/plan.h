@@ -8,9 +8,10 @@
 /// The predicted σ of a camera is the one the joint solve reports for noise
 /// of the given size, the median over that noise (the shift the views
 /// suggest for the given intrinsics is a draw of it; see below): the
-/// inverse of the Fisher information of the chain T_cam_mount · T_mount_holder[j] ·
-/// T_holder_target, built from the solver's own cost functions (ViewReprojectionWithRobotError,
-/// RobotPosePrior), with every robot pose a block under the robot's error prior (marginalised per
+/// inverse of the Fisher information of the chain
+/// T_cam_mount · T_mount_holder[j] · T_holder_target, built from the solver's
+/// own cost functions (ViewReprojectionWithRobotError, RobotPosePrior), with
+/// every robot pose a block under the robot's error prior (marginalised per
 /// pose), the detection noise σ on every target point, and the camera and
 /// target intrinsics that are unknowns of the solve (fx, fy, cx, cy of the
 /// cameras marked for refinement) as further blocks. The given intrinsics of
