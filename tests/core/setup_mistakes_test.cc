@@ -2,12 +2,8 @@
 // The setup-mistake detective (issue 24) on projected observations: each
 // usual mistake made to a correct cell is named with its fix (SolveError, exit
 // 3), and correct cells of every kind are never called mistaken.
-// The internal header brings Ceres and with it glog, whose CHECK must give
-// way to Catch's.
 #include "setup_mistakes.h"
 
-#include "problem.h"
-#undef CHECK
 #include <catch2/catch.hpp>
 #include <functional>
 #include <map>
@@ -17,6 +13,7 @@
 #include "handeye/core/checkerboard.h"
 #include "handeye/core/error.h"
 #include "handeye/sim/synthetic.h"
+#include "problem.h"
 
 using namespace handeye;
 using Catch::Matchers::Contains;
