@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // `handeye plan CELL -o PLAN.json [--csv PLAN.csv] [--poses N] [--goal-mm S]
-// [--seed K] [--intrinsics-sigma S]`: which robot poses to record (core/plan.h), before the robot
-// moves. Exit 3 when a camera can see the target from nowhere in the region,
-// or the goal is out of reach (the best σ reachable is named).
+// [--seed K] [--intrinsics-sigma S] [--no-cross-terms]`: which robot poses to record (core/plan.h),
+// before the robot moves. Exit 3 when a camera can see the target from nowhere in the region, or
+// the goal is out of reach (the best σ reachable is named).
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -30,6 +30,7 @@ struct PlanArgs {
   std::uint64_t seed = 1;
   int candidates = 3000;
   std::string intrinsics_sigma;  // --intrinsics-sigma: the cell's, or the solve's default
+  bool no_cross_terms = false;   // the σ of `calibrate --no-cross-terms`
 };
 
 void RunPlan(const PlanArgs& args) {
@@ -43,6 +44,7 @@ void RunPlan(const PlanArgs& args) {
     if (!sigma) throw InputError("", "", "--intrinsics-sigma: " + why);
     cell.intrinsics_sigma = *sigma;
   }
+  cell.cross_terms = !args.no_cross_terms;
   PlanOptions options;
   options.poses = args.goal_mm > 0 && !args.poses_given ? kMostPosesForGoal : args.poses;
   options.goal_mm = args.goal_mm;
@@ -77,6 +79,8 @@ void RegisterPlan(CLI::App& app) {
   cmd->add_option("--intrinsics-sigma", args->intrinsics_sigma,
                   "how far off the given intrinsics may be, as calibrate takes it (focal=P%,principal_point=Npx "
                   "or 0); default the cell's noise.intrinsics_sigma, else focal=1%,principal_point=3px");
+  cmd->add_flag("--no-cross-terms", args->no_cross_terms,
+                "predict the sigma of calibrate --no-cross-terms (the same poses are chosen)");
   AddCandidateOptions(cmd, &args->seed, &args->candidates);
   cmd->callback([args]() { RunPlan(*args); });
 }

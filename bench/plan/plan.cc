@@ -46,7 +46,7 @@ struct Settings {
   bool refine_intrinsics = false;
   bool no_intrinsics = false;  // the dataset gives no intrinsics (set per solve)
   // The solves' camera-to-camera terms (CalibrationOptions::cross_terms),
-  // which the planner's information does not hold.
+  // and so the plan's forecast (PlanCell::cross_terms).
   bool cross_terms = true;
 };
 
@@ -167,6 +167,7 @@ CapturePlan PlanFor(const SyntheticScene& sampler, std::uint64_t seed, const Set
   rough.rotation_deg = s.rough_deg;
   PlanCell cell = PlanCellOfScene(sampler, rough);
   for (PlanCamera& camera : cell.cameras) camera.refine_intrinsics = s.refine_intrinsics;
+  cell.cross_terms = s.cross_terms;  // the σ forecast for the solve as run
   PlanOptions plan_options;
   plan_options.uncertainty_margin = s.uncertainty_margin;
   plan_options.poses = s.planned_poses;

@@ -143,9 +143,14 @@ UncertainIntrinsics UncertainGivenIntrinsics(const Camera& camera, const std::ve
   auto is_free = [&](int p) { return std::find(free.begin(), free.end(), p) != free.end(); };
   UncertainIntrinsics out;
   const double focal = 0.01 * sigma.focal_percent;
-  if (focal > 0 && !is_free(0) && !is_free(1)) out.params.insert(out.params.end(), {0, 1});
-  if (sigma.principal_point_px > 0 && !is_free(2) && !is_free(3))
-    out.params.insert(out.params.end(), {2, 3});
+  // push_back, not insert of a list: GCC 12 at -O3 warned of an overflow
+  // (-Wstringop-overflow, a false positive) on the inlined insert.
+  auto add = [&](int p, int q) {
+    out.params.push_back(p);
+    out.params.push_back(q);
+  };
+  if (focal > 0 && !is_free(0) && !is_free(1)) add(0, 1);
+  if (sigma.principal_point_px > 0 && !is_free(2) && !is_free(3)) add(2, 3);
   const int n = static_cast<int>(out.params.size());
   out.covariance = Eigen::MatrixXd::Zero(n, n);
   for (int i = 0; i < n; ++i)

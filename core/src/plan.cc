@@ -156,30 +156,35 @@ bool PlanOptions::Check(std::string* why) const {
 CapturePlan PlanCapture(const PlanCell& cell, const PlanOptions& options, const std::vector<PlannedPose>& recorded) {
   Model model = plan_internal::MakeModel(cell);
   for (double& margin_px : model.uncertainty_margin_px) margin_px *= options.uncertainty_margin;
-  Eigen::MatrixXd information = model.prior;
-  for (const PlannedPose& pose : recorded)
+  // The poses are chosen by `model`; the σ the solve will report is `forecast`'s.
+  const Model forecast = plan_internal::MakeModel(cell, plan_internal::ModelUse::kForecast);
+  Eigen::MatrixXd information = model.prior, forecast_information = forecast.prior;
+  for (const PlannedPose& pose : recorded) {
     information += plan_internal::PoseInformation(model, pose.T_base_ee, Indices(cell, pose.cameras));
+    forecast_information +=
+        plan_internal::PoseInformation(forecast, pose.T_base_ee, Indices(cell, pose.cameras));
+  }
   CapturePlan plan;
   std::vector<Candidate> candidates = Candidates(model, options, &plan.failure);
   plan.candidates = static_cast<int>(candidates.size());
-  std::vector<PredictedSigma> sigma = plan_internal::SigmaOf(model, information);
+  std::vector<PredictedSigma> sigma = plan_internal::SigmaOf(forecast, forecast_information);
   auto done = [&] { return options.goal_mm > 0 && sigma[Worst(sigma)].position_mm <= options.goal_mm; };
   while (plan.failure.empty() && !candidates.empty() && static_cast<int>(plan.poses.size()) < options.poses && !done()) {
     size_t best = 0;
     double best_objective = std::numeric_limits<double>::infinity();
-    std::vector<PredictedSigma> best_sigma;
     for (size_t c = 0; c < candidates.size(); ++c) {
-      const std::vector<PredictedSigma> s = plan_internal::SigmaOf(model, information + candidates[c].information);
-      const double objective = Objective(s);
+      const double objective =
+          Objective(plan_internal::SigmaOf(model, information + candidates[c].information));
       if (objective < best_objective) {
         best_objective = objective;
         best = c;
-        best_sigma = s;
       }
     }
-    if (best_sigma.empty()) break;
+    if (!std::isfinite(best_objective)) break;
     information += candidates[best].information;
-    sigma = best_sigma;
+    forecast_information += plan_internal::PoseInformation(forecast, candidates[best].T_base_ee,
+                                                           candidates[best].cameras);
+    sigma = plan_internal::SigmaOf(forecast, forecast_information);
     char id[16];
     std::snprintf(id, sizeof id, "%04d", static_cast<int>(recorded.size() + plan.poses.size()) + 1);
     plan.poses.push_back({id, candidates[best].T_base_ee, Names(cell, candidates[best].cameras), ByName(cell, sigma)});
@@ -192,7 +197,7 @@ CapturePlan PlanCapture(const PlanCell& cell, const PlanOptions& options, const 
 }
 
 std::map<std::string, PredictedSigma> PredictSigma(const PlanCell& cell, const std::vector<Eigen::Isometry3d>& poses) {
-  const Model model = plan_internal::MakeModel(cell);
+  const Model model = plan_internal::MakeModel(cell, plan_internal::ModelUse::kForecast);
   Eigen::MatrixXd information = model.prior;
   for (const Eigen::Isometry3d& T : poses)
     information += plan_internal::PoseInformation(model, T, plan_internal::VisibleCameras(model, T));
@@ -201,7 +206,7 @@ std::map<std::string, PredictedSigma> PredictSigma(const PlanCell& cell, const s
 
 std::map<std::string, PredictedSigma> PredictSigmaOfViews(const PlanCell& cell,
                                                           const std::vector<PlannedPose>& recorded) {
-  const Model model = plan_internal::MakeModel(cell);
+  const Model model = plan_internal::MakeModel(cell, plan_internal::ModelUse::kForecast);
   Eigen::MatrixXd information = model.prior;
   for (const PlannedPose& pose : recorded)
     information += plan_internal::PoseInformation(model, pose.T_base_ee, Indices(cell, pose.cameras));

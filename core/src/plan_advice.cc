@@ -116,6 +116,7 @@ PlanCell PlanCellOfResult(const Dataset& dataset, const CalibrationResult& resul
   cell.robot_sigma_mm = result.solver.robot_sigma_mm;
   cell.robot_sigma_deg = result.solver.robot_sigma_deg;
   cell.intrinsics_sigma = result.options.intrinsics_sigma;  // as the solve weighed them
+  cell.cross_terms = result.options.cross_terms;
   if (!given) cell.region = RegionOfPoses(RecordedPoses(dataset, result));
   return cell;
 }

@@ -20,6 +20,8 @@ namespace handeye::plan_internal {
 namespace {
 
 constexpr int kIntrinsicsUnknowns = 4;  // fx fy cx cy
+/// What a pose nobody has seen is known to: its σ in the forecast.
+constexpr double kUnknownPositionM = 1.0, kUnknownRotationRad = 1.0;
 using Tangent = Eigen::Matrix<double, 7, 6, Eigen::RowMajor>;
 using DynamicRowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
@@ -58,13 +60,24 @@ double SmallestSpacing(const Target& target) {
   return std::isfinite(best) ? best : 0.0;
 }
 
-/// Information of the rough knowledge: each camera's and the target's ±
-/// (weak, so that unseen cameras stay finite) and the intrinsics' prior the solve uses.
-void AddPrior(const PlanCell& cell, Model* model) {
+/// Information known before any view: the intrinsics' prior the solve uses,
+/// and the rough poses' ± (`use` kChoice), or for the forecast only what keeps
+/// cameras without views finite: the solve has no prior on the poses, and
+/// `advise` takes them and their ± from a solve of the recorded views, which
+/// the forecast counts (with the ± it counted them twice: bench/plan_advise's
+/// forecast for a camera of 4 views was 0.8 of the σ the solve then reported,
+/// median of 6 seeds). The choice keeps the ±: without them the large cells'
+/// planned captures were worse (bench/plan: 1.595 against 1.542 mm, mean of 6
+/// seeds) and their solves' own σ further below the true error.
+void AddPrior(const PlanCell& cell, ModelUse use, Model* model) {
   model->prior = Eigen::MatrixXd::Zero(model->size, model->size);
   // The quaternion tangent turns by twice its length.
   auto add_pose = [&](int offset, const Eigen::Isometry3d& T_mount_cam, double sigma_m,
                       double sigma_rad) {
+    if (use == ModelUse::kForecast) {
+      sigma_m = kUnknownPositionM;
+      sigma_rad = kUnknownRotationRad;
+    }
     const double lever = T_mount_cam.translation().norm() * sigma_rad;
     const double sigma_t = std::sqrt(sigma_m * sigma_m + lever * lever);
     for (int i = 0; i < 3; ++i) {
@@ -74,6 +87,8 @@ void AddPrior(const PlanCell& cell, Model* model) {
   };
   add_pose(model->target_offset, cell.T_holder_target, cell.target_position_sigma_m,
            cell.target_rotation_sigma_rad);
+  for (const auto& [pair, offset] : model->pair_offset)
+    add_pose(offset, cell.cameras[pair.first].T_mount_cam, kUnknownPositionM, kUnknownRotationRad);
   for (size_t k = 0; k < cell.cameras.size(); ++k) {
     const PlanCamera& camera = cell.cameras[k];
     add_pose(model->camera_offset[k], camera.T_mount_cam, camera.position_sigma_m,
@@ -101,7 +116,7 @@ void AddPrior(const PlanCell& cell, Model* model) {
 
 }  // namespace
 
-Model MakeModel(const PlanCell& cell) {
+Model MakeModel(const PlanCell& cell, ModelUse use) {
   Model model;
   model.cell = &cell;
   model.target_offset = 0;
@@ -125,9 +140,16 @@ Model MakeModel(const PlanCell& cell) {
     model.uncertainty_margin_px.push_back(
         f * (position / distance + std::tan(camera.rotation_sigma_rad)));
   }
+  const int cameras = static_cast<int>(cell.cameras.size());
+  for (int k = 0; use == ModelUse::kForecast && cell.cross_terms && k < cameras; ++k)
+    for (int t = 0; t < cameras; ++t)
+      if (t != k) {
+        model.pair_offset[{k, t}] = model.size;
+        model.size += 6;
+      }
   model.T_holder_target = ToPoseParams(cell.T_holder_target);
   model.point_spacing_m = SmallestSpacing(*cell.target);
-  AddPrior(cell, &model);
+  AddPrior(cell, use, &model);
   return model;
 }
 
@@ -186,10 +208,22 @@ Eigen::MatrixXd PoseInformation(const Model& model, const Eigen::Isometry3d& T_b
     const double weight = own_sigma > 0 ? cell.pixel_sigma_px / own_sigma : 1.0;
     J_u *= weight;
     const Eigen::MatrixXd J_r = J[1] * P_robot * weight;
-    H += J_u.transpose() * J_u;
-    if (!robot_error) continue;
-    H_ur += J_u.transpose() * J_r;
-    H_rr += J_r.transpose() * J_r;
+    // The same rows through camera k's pose as seen by each other camera.
+    std::vector<Eigen::MatrixXd> rows_of = {J_u};
+    for (int t : cameras) {
+      const auto pair = model.pair_offset.find({k, t});
+      if (pair == model.pair_offset.end()) continue;
+      Eigen::MatrixXd J_pair = J_u;
+      J_pair.middleCols(model.camera_offset[k], 6).setZero();
+      J_pair.middleCols(pair->second, 6) = J_u.middleCols(model.camera_offset[k], 6);
+      rows_of.push_back(std::move(J_pair));
+    }
+    for (const Eigen::MatrixXd& J_x : rows_of) {
+      H += J_x.transpose() * J_x;
+      if (!robot_error) continue;
+      H_ur += J_x.transpose() * J_r;
+      H_rr += J_r.transpose() * J_r;
+    }
   }
   if (robot_error) {
     // The prior on the pose block as the solve weighs it, in pixel units.
@@ -225,11 +259,12 @@ std::vector<PredictedSigma> SigmaOf(const Model& model, const Eigen::MatrixXd& i
   // with the shift's square at its median (MedianSquaredNorm), not its mean
   // (bench/plan, 4-6 cameras, 6 seeds: forecast over reported, median 1.37 /
   // 1.50 / 1.67 on small / medium / large cells with the mean, 1.24 / 1.32 /
-  // 1.45 with the median). What is left is mostly the solve's
-  // camera-to-camera terms, which use the points of a view that other cameras
-  // share once more per such camera, and its covariance counts them so; this
-  // information has them once (solved without them, bench_plan
-  // --no-cross-terms: 0.96 / 1.04 / 1.14).
+  // 1.45 with the median; 1.09 / 1.24 / 1.22 once the rough poses add no
+  // information, and 0.83 / 1.06 / 1.06 once it holds the solve's
+  // camera-to-camera terms as well, Model::pair_offset. What is left is
+  // mostly single draws: the shift the views suggest 10-30 times the views'
+  // own σ in a few solves, and views the simulator gives that the plan does
+  // not count on).
   // own_position_mm has no shift: the σ of the views alone.
   const size_t cameras = model.camera_offset.size();
   std::vector<PredictedSigma> out(

@@ -4,8 +4,10 @@
 // layout, the information a robot pose adds, the candidates and their views.
 
 #include <Eigen/Core>
+#include <map>
 #include <optional>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "handeye/core/plan.h"
@@ -31,6 +33,10 @@ struct Model {
   /// How many coordinates each given camera's error takes.
   int GivenCoordinates() const { return (given_focal ? 1 : 0) + (given_principal_point ? 2 : 0); }
   std::vector<PoseParams> T_cam_mount;
+  /// The solve's camera-to-camera terms (CalibrationOptions::cross_terms):
+  /// per ordered pair (k, t) the offset of T_camk_mount as seen through
+  /// camera t, a pose block of its own (refine_joint.cc); empty without them.
+  std::map<std::pair<int, int>, int> pair_offset;
   PoseParams T_holder_target{};
   /// Information of what is known before any view (the rough poses' ±, the
   /// intrinsics' prior): keeps cameras without views finite.
@@ -41,11 +47,20 @@ struct Model {
   std::vector<double> uncertainty_margin_px;
 };
 
-Model MakeModel(const PlanCell& cell);
+/// What a model is for. kChoice: the information poses are chosen by, each
+/// view's points once and the rough poses' ± as a prior (the choice was tuned
+/// so: bench/plan). kForecast: the σ the solve will report, which has no prior
+/// on the poses, and uses its camera-to-camera terms where
+/// PlanCell::cross_terms says so.
+enum class ModelUse { kChoice, kForecast };
+
+Model MakeModel(const PlanCell& cell, ModelUse use = ModelUse::kChoice);
 
 /// The information (inverse covariance, in the units of the unknowns'
 /// tangent) that the views of `cameras` at robot pose T_base_ee add, with the
-/// pose's own robot error marginalised out.
+/// pose's own robot error marginalised out; with the model's pair terms, each
+/// view's points once more through every other camera of `cameras`, as the
+/// solve's camera-to-camera terms use them.
 Eigen::MatrixXd PoseInformation(const Model& model, const Eigen::Isometry3d& T_base_ee,
                                 const std::vector<int>& cameras);
 

@@ -20,7 +20,11 @@
 /// whose covariance of the camera's pose is the solve's "consider" covariance
 /// A⁻¹ + G Σ_post Gᵀ (see PoseUncertainty::from_given_intrinsics), plus the
 /// shift G δc the solve adds for the error δc its views suggest, here at the
-/// median of its square over the noise.
+/// median of its square over the noise. Where the solve uses its
+/// camera-to-camera terms (PlanCell::cross_terms), the information holds them
+/// as the solve's covariance does: the points of a view that other cameras
+/// share once more per such camera, through a pose block of its own. The
+/// poses are chosen by the views' information without them.
 
 #include <Eigen/Geometry>
 #include <map>
@@ -41,7 +45,9 @@ struct PlanCamera {
   Camera camera;  ///< name, image size, intrinsics (a guess when `refine_intrinsics`)
   /// Its rough pose: T_base_cam (eye_to_hand) or T_ee_cam (eye_in_hand).
   Eigen::Isometry3d T_mount_cam = Eigen::Isometry3d::Identity();
-  /// How far the rough pose may be off (the user's ±): metres, radians.
+  /// How far the rough pose may be off (the user's ±): metres, radians. It
+  /// widens the visibility margin and weighs in the choice of poses; the
+  /// predicted σ gives the rough pose no weight, as the solve gives it none.
   double position_sigma_m = 0.1;
   double rotation_sigma_rad = 10.0 * M_PI / 180.0;
   /// fx, fy, cx, cy will be unknowns of the solve (`--refine-intrinsics
@@ -90,6 +96,11 @@ struct PlanCell {
   /// How well the given intrinsics of the cameras not refined are known
   /// (the solve's --intrinsics-sigma; {0, 0}: exact).
   GivenIntrinsicsSigma intrinsics_sigma;
+  /// Whether the solve uses its camera-to-camera terms
+  /// (CalibrationOptions::cross_terms): they use the points of a view that
+  /// other cameras share once more per camera, and the σ the solve reports
+  /// counts them as such, so the predicted σ does too.
+  bool cross_terms = true;
   PlanRegion region;
   ViewConstraints constraints;
   bool Check(std::string* why) const;
