@@ -13,11 +13,19 @@ TEST_CASE("Ground-truth errors are the paper's e_t and e_theta", "[evaluation]")
   truth.T_cam["cam1"] = MakeTransformFromRotationVector({0, 1, 0}, {-1, 2, 3});
   truth.T_target = Eigen::Isometry3d::Identity();
   CalibrationResult result;
-  CameraResult a{"cam0", true, truth.T_cam["cam0"], std::nullopt, 0, 5, 0};
+  auto camera = [](const char* name, bool calibrated, const Eigen::Isometry3d& T_cam, int views) {
+    CameraResult c;
+    c.name = name;
+    c.calibrated = calibrated;
+    c.T_cam = T_cam;
+    c.views = views;
+    return c;
+  };
+  CameraResult a = camera("cam0", true, truth.T_cam["cam0"], 5);
   a.T_cam.translation() += Eigen::Vector3d(0.003, 0.004, 0);  // 5 mm
-  CameraResult b{"cam1", true, truth.T_cam["cam1"], std::nullopt, 0, 5, 0};
+  CameraResult b = camera("cam1", true, truth.T_cam["cam1"], 5);
   b.T_cam.linear() = b.T_cam.rotation() * Eigen::AngleAxisd(0.5 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  CameraResult c{"cam2", false, Eigen::Isometry3d::Identity(), std::nullopt, 0, 0, 0};
+  CameraResult c = camera("cam2", false, Eigen::Isometry3d::Identity(), 0);
   result.cameras = {a, b, c};
   result.T_target = MakeTransformFromRotationVector({0, 0, 0}, {0, 0, 0.001});
   const Evaluation e = EvaluateAgainstTruth(result, truth);

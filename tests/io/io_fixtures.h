@@ -81,7 +81,7 @@ inline void WriteMetricFolder(const std::string& dir, int calibration_setup, boo
             "dist_k0: 0\ndist_k1: 0\ndist_px: 0\ndist_py: 0\ndist_k2: 0\ndist_k3: 0\n"
             "dist_k4: 0\ndist_k5: 0\nimg_width: 64.0\nimg_height: 48\n");
   for (int i = 1; i <= 3; ++i) {
-    char stem[8];
+    char stem[16];
     std::snprintf(stem, sizeof(stem), "%04d", i);
     WriteGrayPng(dir + "/camera1/image/" + stem + ".png", 64, 48);
     WriteText(dir + "/camera1/pose/" + stem + ".csv", MatrixText(MetricPose(i).matrix(), " "));

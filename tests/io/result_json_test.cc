@@ -53,7 +53,10 @@ CalibrationResult SampleResult(Setup setup) {
   p.shared_views = 4;
   r.camera_pairs = {p};
   r.metrics = {0.18, 4.9, 0.21};
-  r.solver = {0.12, 6, true, "CONVERGENCE"};
+  r.solver.seconds = 0.12;
+  r.solver.iterations = 6;
+  r.solver.converged = true;
+  r.solver.termination = "CONVERGENCE";
   ViewResult v;
   v.pose_id = "0001";
   v.camera = "cam0";
