@@ -4,10 +4,11 @@
 
 Splits an observations file (handeye-observations/1, from `handeye detect`)
 into a first capture A (every STRIDE-th pose, FIRST of them) and held-out
-poses B (the next ADDED not in A), calibrates A, and asks `advise` for ADDED
-poses with B's robot poses as the only candidates (a cell whose region is
-B's taught poses). The poses it picks are then added with their real views
-and the capture solved again. Prints, per camera: the σ A's solve reported,
+poses B (all the others), calibrates A, and asks `advise` for ADDED poses
+with B's robot poses as the only candidates (a cell whose region is B's
+taught poses). The poses it picks (matched to B's by their T_base_ee: a plan
+numbers its poses afresh) are then added with their real views and the
+capture solved again. Prints, per camera: the σ A's solve reported,
 what `advise` says A's views give (`now`), the σ it forecasts after its
 proposals, and the σ the solve of A + proposals then reported; with a
 ground-truth file, both solves' true errors.
@@ -41,14 +42,14 @@ def subset(obs, ids):
 def cell_for(obs, result, taught):
     """The cell `advise --cell` takes: the cameras and target where A's
     solve put them, the region B's robot poses."""
+    mount = "T_base_cam" if obs["setup"] == "eye_to_hand" else "T_ee_cam"
     cameras = []
     for camera in obs["cameras"]:
         solved = result["cameras"].get(camera["name"])
         if not solved or not solved.get("calibrated"):
             continue
         entry = {k: camera[k] for k in ("name", "image_size", "intrinsics", "distortion") if k in camera}
-        entry["T_base_cam" if obs["setup"] == "eye_to_hand" else "T_ee_cam"] = solved[
-            "T_base_cam" if obs["setup"] == "eye_to_hand" else "T_ee_cam"]
+        entry[mount] = solved[mount]
         entry["pose_uncertainty"] = {"position_m": 0.01, "rotation_deg": 0.5}
         cameras.append(entry)
     holder = "T_ee_target" if obs["setup"] == "eye_to_hand" else "T_base_target"
@@ -86,7 +87,7 @@ def main():
     obs = json.load(open(args.observations))
     ids = [p["id"] for p in obs["poses"]]
     first = ids[::args.stride][:args.first]
-    held_out = [i for i in ids if i not in set(first)]
+    taught = [p for p in obs["poses"] if p["id"] not in set(first)]
     work = tempfile.mkdtemp(prefix="handeye-advise-held-out.")
     flags = args.calibrate_flags.split()
 
@@ -101,11 +102,12 @@ def main():
 
     obs_a, result_a_path, result_a = solve("a", first)
     cell = os.path.join(work, "cell.json")
-    taught = [p for p in obs["poses"] if p["id"] in set(held_out)]
     json.dump(cell_for(obs, result_a, taught), open(cell, "w"))
     plan = os.path.join(work, "next.json")
     advice = run([handeye, "advise", result_a_path, "--dataset", obs_a, "--cell", cell,
                   "--poses", str(args.added), "-o", plan])
+    if not os.path.exists(plan):
+        sys.exit(f"advise proposed no poses: {(advice.stdout + advice.stderr).strip()}")
     now = {}
     for line in advice.stdout.splitlines():
         parts = line.split()
