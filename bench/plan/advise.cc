@@ -2,10 +2,14 @@
 // Does `handeye advise` fix a camera left at 4 views? Per seed: a medium cell
 // captured with the simulator's sampler, one camera's views cut to its first
 // 4; solve, ask for --added poses, record them (same faults), solve again,
-// and compare that camera's reported σ and true position error before and after.
+// and compare that camera's reported σ and true position error before and after;
+// and, for every camera, the σ advise expected after its proposals against
+// the σ the solve then reported. With --intrinsics-off the given intrinsics
+// are off (the views are the true cameras').
 //
-//   bench_plan_advise --seeds 6 --added 4
+//   bench_plan_advise --seeds 6 --added 4 [--intrinsics-off 0.5/0]
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -64,11 +68,23 @@ int main(int argc, char** argv) {
   app.add_option("--cell", cell, "cell");
   app.add_option("--poses", poses, "poses of the first capture");
   app.add_option("--added", added, "poses advise proposes");
+  std::string intrinsics_off = "0/0";
+  app.add_option(
+      "--intrinsics-off", intrinsics_off,
+      "PCT/PX: the given intrinsics off by PCT % in focal length and PX in the principal point "
+      "(OffsetIntrinsics)");
   CLI11_PARSE(app, argc, argv);
+  IntrinsicsOffset offset;
+  if (!ParseIntrinsicsOffset(intrinsics_off, &offset)) {
+    std::fprintf(stderr, "--intrinsics-off: PCT/PX, e.g. 0.5/3, got '%s'\n",
+                 intrinsics_off.c_str());
+    return 2;
+  }
   const auto target = std::make_shared<const CheckerboardTarget>(7, 4, 0.04);
   Table table({"seed", "sigma before mm", "sigma after mm", "predicted after mm", "error before mm", "error after mm",
                "poses with cam0 added"});
   std::vector<double> sigma_ratio, error_ratio, errors_before, errors_after;
+  std::vector<double> forecast_ratio;  // every camera: expected after / reported after
   for (int i = 0; i < seeds; ++i) {
     SceneOptions options;
     options.cell = cell;
@@ -79,6 +95,7 @@ int main(int argc, char** argv) {
     SyntheticScene first = MakeScene(options, target);
     std::set<std::string> kept;
     ObserveCut(&first, noise_px, options.seed, &kept, first.dataset.poses.size());
+    OffsetIntrinsics(offset, &first.dataset);
     try {
       const CalibrationResult before = Calibrate(first.dataset, CalibrationOptions{});
       const PlanCell plan_cell = PlanCellOfResult(first.dataset, before, std::nullopt);
@@ -96,7 +113,14 @@ int main(int argc, char** argv) {
       again.num_poses = static_cast<int>(again.given_poses.size());
       SyntheticScene second = MakeScene(again, target);
       ObserveCut(&second, noise_px, options.seed, &kept, first.dataset.poses.size());
+      OffsetIntrinsics(offset, &second.dataset);
       const CalibrationResult after = Calibrate(second.dataset, CalibrationOptions{});
+      if (!advice.next.poses.empty())
+        for (const CameraResult& c : after.cameras) {
+          const auto& expected = advice.next.poses.back().sigma_after;
+          if (c.sigma && expected.count(c.name))
+            forecast_ratio.push_back(expected.at(c.name).position_mm / c.sigma->position_mm);
+        }
       const auto [sigma0, error0] = CameraOutcome(before, first.truth);
       const auto [sigma1, error1] = CameraOutcome(after, second.truth);
       sigma_ratio.push_back(sigma0 / sigma1);
@@ -114,5 +138,15 @@ int main(int argc, char** argv) {
   if (!sigma_ratio.empty())
     std::printf("\nmedian improvement of %s: sigma %.2fx, true error %.2fx; RMS true error before / after %.2fx\n",
                 kCamera, Median(sigma_ratio), Median(error_ratio), Rms(errors_before) / Rms(errors_after));
+  if (!forecast_ratio.empty()) {
+    const long within = std::count_if(forecast_ratio.begin(), forecast_ratio.end(),
+                                      [](double r) { return r >= 0.7 && r <= 1.3; });
+    std::printf(
+        "every camera, sigma expected after / reported after: median %.2f (%.2f, %.2f), within 30 "
+        "%% %ld/%zu\n",
+        Median(forecast_ratio), *std::min_element(forecast_ratio.begin(), forecast_ratio.end()),
+        *std::max_element(forecast_ratio.begin(), forecast_ratio.end()), within,
+        forecast_ratio.size());
+  }
   return 0;
 }

@@ -293,18 +293,19 @@ void FillResultStage(Calibration* c) {
 void IntrinsicsCheckAndSigma(Calibration* c) {
   internal::CameraCovariance& camera_covariance = c->camera_covariance;
   if (c->options.check_intrinsics) {
-    std::map<size_t, Eigen::Matrix<double, 6, 1>> shift;
+    std::map<size_t, internal::IntrinsicsOff> off;
     const auto intrinsics_warnings = internal::IntrinsicsWarnings(
         c->problem, c->est.T_cam_mount, c->est.Targets(),
         std::max(1.0, c->result.solver.cauchy_scale_px),
         internal::UnrefinedIntrinsics(c->free_intrinsics, c->dataset.cameras.size()),
-        c->robot_model, &shift);
+        c->robot_model, &off);
     c->result.warnings.insert(c->result.warnings.end(), intrinsics_warnings.begin(),
                               intrinsics_warnings.end());
-    for (const auto& [k, moved] : shift)
+    for (const auto& [k, found] : off)
       if (camera_covariance.covariance.count(k)) {
-        camera_covariance.covariance[k] += moved * moved.transpose();
+        camera_covariance.covariance[k] += found.moved * found.moved.transpose();
         camera_covariance.intrinsics_shift.erase(k);
+        camera_covariance.intrinsics_offset[k] = found.offset_px;
       }
   }
   for (const auto& [k, moved] : camera_covariance.intrinsics_shift)
@@ -317,6 +318,9 @@ void IntrinsicsCheckAndSigma(Calibration* c) {
     sigma.from_given_intrinsics =
         internal::UncertaintyOf(*c->est.T_cam_mount[k], from_intrinsics, true).covariance;
     c->result.cameras[k].sigma = sigma;
+    if (const auto offset = camera_covariance.intrinsics_offset.find(k);
+        offset != camera_covariance.intrinsics_offset.end())
+      c->result.cameras[k].given_intrinsics_offset_px = offset->second;
   }
 }
 

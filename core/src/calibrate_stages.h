@@ -39,6 +39,8 @@ struct Estimate {
 struct CameraCovariance {
   std::map<size_t, Eigen::Matrix<double, 6, 6>> covariance, from_intrinsics;
   std::map<size_t, Eigen::Matrix<double, 6, 1>> intrinsics_shift;
+  /// Its δc (Refinement::intrinsics_offset_px).
+  std::map<size_t, Eigen::Vector4d> intrinsics_offset;
   void Add(const Refinement& computed, size_t k) {
     if (!computed.T_cam_mount_covariance[k]) return;
     covariance[k] = *computed.T_cam_mount_covariance[k];
@@ -46,6 +48,8 @@ struct CameraCovariance {
         computed.T_cam_mount_intrinsics_covariance[k].value_or(Eigen::Matrix<double, 6, 6>::Zero());
     if (computed.T_cam_mount_intrinsics_shift[k])
       intrinsics_shift[k] = *computed.T_cam_mount_intrinsics_shift[k];
+    if (k < computed.intrinsics_offset_px.size() && computed.intrinsics_offset_px[k])
+      intrinsics_offset[k] = *computed.intrinsics_offset_px[k];
   }
 };
 

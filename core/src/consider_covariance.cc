@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "consider_covariance.h"
 
+#include <ceres/manifold.h>
+
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <algorithm>
@@ -104,8 +106,33 @@ Eigen::VectorXd ConsiderCovariance::Shift(const double* a, double variance_facto
   const int n = problem_->ParameterBlockTangentSize(a);
   if (num_consider_ == 0) return Eigen::VectorXd::Zero(n);
   const Eigen::MatrixXd G = -AgainstConsider(a) * inverse_cc_;
-  const Eigen::VectorXd delta_c = -Posterior(variance_factor) * gradient_ / variance_factor;
-  return G * delta_c;
+  return G * DeltaC(variance_factor);
+}
+
+Eigen::VectorXd ConsiderCovariance::DeltaC(double variance_factor) const {
+  return -Posterior(variance_factor) * gradient_ / variance_factor;
+}
+
+Eigen::VectorXd ConsiderCovariance::Suggested(const double* a, double variance_factor) const {
+  const int ambient = problem_->ParameterBlockSize(a),
+            tangent = problem_->ParameterBlockTangentSize(a);
+  Eigen::VectorXd step = Eigen::VectorXd::Zero(tangent);
+  if (num_consider_ > 0) {
+    const Eigen::VectorXd delta_c = DeltaC(variance_factor);
+    int at = 0;
+    for (const Coordinates& c : consider_)
+      for (int i : c.tangent) {
+        if (c.block == a) step[i] = delta_c[at];
+        ++at;
+      }
+  }
+  // To the ambient coordinates through the block's manifold (a subset's
+  // tangent step is its free coordinates' step).
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> P =
+      Eigen::MatrixXd::Identity(ambient, tangent);
+  if (const ceres::Manifold* manifold = problem_->GetManifold(a))
+    manifold->PlusJacobian(a, P.data());
+  return P * step;
 }
 
 std::vector<int> ConsiderCovariance::Held(const double* block) const {

@@ -69,6 +69,10 @@ class ConsiderCovariance {
   /// be with the inputs at what prior and views together say (−G δc is that
   /// move; only its outer product enters σ).
   Eigen::VectorXd Shift(const double* a, double variance_factor) const;
+  /// δc of block a in its ambient coordinates: what prior and views together
+  /// say its held inputs are off by (their estimate less the given value; 0
+  /// in coordinates not held).
+  Eigen::VectorXd Suggested(const double* a, double variance_factor) const;
   /// The tangent coordinates of `block` held as uncertain inputs (none where it has none).
   std::vector<int> Held(const double* block) const;
 
@@ -80,6 +84,8 @@ class ConsiderCovariance {
   std::vector<Coordinates> consider_;
   /// Σ_post for residuals of variance `variance_factor`.
   Eigen::MatrixXd Posterior(double variance_factor) const;
+  /// δc of every consider coordinate, stacked.
+  Eigen::VectorXd DeltaC(double variance_factor) const;
 
   Eigen::MatrixXd sigma_, prior_information_;
   Eigen::VectorXd gradient_;  // g_c

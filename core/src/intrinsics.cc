@@ -380,7 +380,7 @@ std::string IntrinsicsOffText(const Camera& camera, const SeenIntrinsics& seen,
 std::vector<Warning> IntrinsicsWarnings(
     const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
     const TargetPoses& T_holder_target, double cauchy_scale_px, const std::vector<unsigned>& check,
-    const std::optional<RobotPrior>& robot, std::map<size_t, Eigen::Matrix<double, 6, 1>>* shift) {
+    const std::optional<RobotPrior>& robot, std::map<size_t, IntrinsicsOff>* found) {
   const Dataset& dataset = *problem.dataset;
   std::vector<Warning> warnings;
   for (size_t k = 0; k < dataset.cameras.size(); ++k) {
@@ -407,7 +407,7 @@ std::vector<Warning> IntrinsicsWarnings(
       if ((p < 2 && focal_off) || (p >= 2 && centre_off)) given_minus_seen[p] = -delta[p];
     const Eigen::Matrix<double, 6, 1> moved =
         seen->C_xK * seen->C_KK.ldlt().solve(given_minus_seen);
-    if (shift) (*shift)[k] = moved;
+    if (found) (*found)[k] = {moved, -given_minus_seen};
     warnings.push_back(
         CameraWarning(WarningKind::kIntrinsicsOff, camera.name,
                       IntrinsicsOffText(camera, *seen, delta, focal_off, centre_off, moved)));

@@ -75,14 +75,19 @@ Camera EstimateIntrinsics(const Dataset& dataset, int k);
 /// the given values by more than 3σ and by a visible amount (0.3 % of the
 /// focal length, 0.5 px).
 /// With `robot`, each robot pose is a block under that prior, as in the joint solve.
-/// With `shift`: per camera warned about, how far the given values of the
-/// groups it names move T_cam_mount from where the views' own intrinsics put
-/// it (tangent of T_cam_mount, linearised: C_xK C_KK⁻¹ ΔK from the same
-/// covariance); a bias the covariance of the joint solve does not hold.
+/// With `found`: per camera warned about, what the check found (IntrinsicsOff).
+struct IntrinsicsOff {
+  /// How far the given values of the groups the warning names move
+  /// T_cam_mount from where the views' own intrinsics put it (tangent of
+  /// T_cam_mount, linearised: C_xK C_KK⁻¹ ΔK from the same covariance); a
+  /// bias the covariance of the joint solve does not hold.
+  Eigen::Matrix<double, 6, 1> moved;
+  /// ΔK of those groups: the views' fx, fy, cx, cy less the given (0 for a group not named).
+  Eigen::Vector4d offset_px;
+};
 std::vector<Warning> IntrinsicsWarnings(
     const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,
     const TargetPoses& T_holder_target, double cauchy_scale_px, const std::vector<unsigned>& check,
-    const std::optional<RobotPrior>& robot,
-    std::map<size_t, Eigen::Matrix<double, 6, 1>>* shift = nullptr);
+    const std::optional<RobotPrior>& robot, std::map<size_t, IntrinsicsOff>* found = nullptr);
 
 }  // namespace handeye::internal

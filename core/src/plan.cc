@@ -157,13 +157,14 @@ CapturePlan PlanCapture(const PlanCell& cell, const PlanOptions& options, const 
   Model model = plan_internal::MakeModel(cell);
   for (double& margin_px : model.uncertainty_margin_px) margin_px *= options.uncertainty_margin;
   // The poses are chosen by `model`; the σ the solve will report is `forecast`'s.
-  const Model forecast = plan_internal::MakeModel(cell, plan_internal::ModelUse::kForecast);
+  Model forecast = plan_internal::MakeModel(cell, plan_internal::ModelUse::kForecast);
   Eigen::MatrixXd information = model.prior, forecast_information = forecast.prior;
   for (const PlannedPose& pose : recorded) {
     information += plan_internal::PoseInformation(model, pose.T_base_ee, Indices(cell, pose.cameras));
     forecast_information +=
         plan_internal::PoseInformation(forecast, pose.T_base_ee, Indices(cell, pose.cameras));
   }
+  plan_internal::HoldRecorded(forecast_information, &forecast);
   CapturePlan plan;
   std::vector<Candidate> candidates = Candidates(model, options, &plan.failure);
   plan.candidates = static_cast<int>(candidates.size());
@@ -206,10 +207,11 @@ std::map<std::string, PredictedSigma> PredictSigma(const PlanCell& cell, const s
 
 std::map<std::string, PredictedSigma> PredictSigmaOfViews(const PlanCell& cell,
                                                           const std::vector<PlannedPose>& recorded) {
-  const Model model = plan_internal::MakeModel(cell, plan_internal::ModelUse::kForecast);
+  Model model = plan_internal::MakeModel(cell, plan_internal::ModelUse::kForecast);
   Eigen::MatrixXd information = model.prior;
   for (const PlannedPose& pose : recorded)
     information += plan_internal::PoseInformation(model, pose.T_base_ee, Indices(cell, pose.cameras));
+  plan_internal::HoldRecorded(information, &model);
   return ByName(cell, plan_internal::SigmaOf(model, information));
 }
 

@@ -41,6 +41,13 @@ struct Model {
   /// Information of what is known before any view (the rough poses' ±, the
   /// intrinsics' prior): keeps cameras without views finite.
   Eigen::MatrixXd prior;
+  /// With HoldRecorded: the recorded views' information on the given
+  /// intrinsics' error coordinates, as much as each camera's offset is kept
+  /// (S, in the order the coordinates take in the unknowns), and the offset
+  /// kept (δc, the same order; PlanCamera::given_intrinsics_offset_px).
+  /// Empty: no camera has one, every view's noise is a draw.
+  Eigen::MatrixXd recorded_information_on_given;
+  Eigen::VectorXd recorded_given_offset;
   /// Smallest distance between two target points, metres.
   double point_spacing_m = 0;
   /// Per camera: extra image margin (px) for its rough pose's and the target's ±.
@@ -63,6 +70,13 @@ Model MakeModel(const PlanCell& cell, ModelUse use = ModelUse::kChoice);
 /// solve's camera-to-camera terms use them.
 Eigen::MatrixXd PoseInformation(const Model& model, const Eigen::Isometry3d& T_base_ee,
                                 const std::vector<int>& cameras);
+
+/// For `advise`: `information` (prior included) is the recorded views', and
+/// the cameras' PlanCamera::given_intrinsics_offset_px what their solve
+/// found; SigmaOf then keeps as much of that shift as stands out of the
+/// recorded views' noise, and draws the rest of the noise afresh. Nothing
+/// changes where no camera has an offset.
+void HoldRecorded(const Eigen::MatrixXd& information, Model* model);
 
 /// Per camera, its σ under the total information `information` (prior
 /// included); infinite when the information is singular.

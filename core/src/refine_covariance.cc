@@ -289,6 +289,7 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
                          : Eigen::Matrix<double, 6, 1>::Ones().eval();
   };
   out->T_cam_mount_intrinsics_shift.assign(T_cam_mount.size(), std::nullopt);
+  out->intrinsics_offset_px.assign(T_cam_mount.size(), std::nullopt);
   out->T_cam_mount_intrinsics_covariance.assign(T_cam_mount.size(), std::nullopt);
   if (ok) {
     // Each camera's covariance less what its refined intrinsics add, which
@@ -304,6 +305,8 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
                  : Eigen::Matrix<double, 6, 6>::Zero();
         out->T_cam_mount_covariance[k] = D * (C - refined) * D;
         out->T_cam_mount_intrinsics_shift[k] = covariance->Shift(T_cam_mount[k], variance_factor);
+        if (K[k] && !covariance->Held(K[k]).empty())
+          out->intrinsics_offset_px[k] = covariance->Suggested(K[k], variance_factor).head<4>();
         out->T_cam_mount_intrinsics_covariance[k] =
             Eigen::Matrix<double, 6, 6>(covariance->Consider(T_cam_mount[k], variance_factor)) +
             D * refined * D;

@@ -34,6 +34,10 @@ struct Refinement {
   /// with the held given intrinsics at what their prior and the views together
   /// say (ConsiderCovariance::Shift; zero when they are exact or all refined).
   std::vector<std::optional<Eigen::Matrix<double, 6, 1>>> T_cam_mount_intrinsics_shift;
+  /// With the covariance: per camera with held given intrinsics, what the
+  /// views and their prior say its fx, fy, cx, cy are off by (estimate less
+  /// given, pixels; 0 for those not held): the δc of that shift.
+  std::vector<std::optional<Eigen::Vector4d>> intrinsics_offset_px;
   /// With the covariance: per camera, the part of T_cam_mount_covariance the
   /// held given intrinsics' uncertainty adds (ConsiderCovariance::Consider).
   std::vector<std::optional<Eigen::Matrix<double, 6, 6>>> T_cam_mount_intrinsics_covariance;

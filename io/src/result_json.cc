@@ -222,6 +222,10 @@ std::string ResultJson(const CalibrationResult& result) {
       if (cam.own_T_target) c[frames.target_key] = JsonFromTransform(*cam.own_T_target);
       c["rms_px"] = cam.rms_px;
       if (cam.sigma) c["sigma"] = SigmaJson(*cam.sigma);
+      if (cam.given_intrinsics_offset_px) {
+        const Eigen::Vector4d& d = *cam.given_intrinsics_offset_px;
+        c["given_intrinsics_offset_px"] = {{"fx", d[0]}, {"fy", d[1]}, {"cx", d[2]}, {"cy", d[3]}};
+      }
       if (cam.cross_validation)
         c["cross_validation"] = {{"folds", cam.cross_validation->folds},
                                  {"held_out_rms_px", cam.cross_validation->held_out_rms_px},
@@ -327,6 +331,11 @@ CalibrationResult LoadResult(const std::string& path) {
       if (cam.Has(frames.target_key)) c.own_T_target = cam.Key(frames.target_key).Rigid(false);
       if (cam.Has("intrinsics")) c.intrinsics = ReadIntrinsicsResult(cam, name);
       if (cam.Has("sigma")) c.sigma = ReadSigma(cam.Key("sigma"));
+      if (cam.Has("given_intrinsics_offset_px")) {
+        const JsonReader d = cam.Key("given_intrinsics_offset_px");
+        c.given_intrinsics_offset_px = Eigen::Vector4d(d.Key("fx").Number(), d.Key("fy").Number(),
+                                                       d.Key("cx").Number(), d.Key("cy").Number());
+      }
       if (cam.Has("cross_validation")) {
         const JsonReader cv = cam.Key("cross_validation");
         CameraResult::CrossValidation v;

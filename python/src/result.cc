@@ -105,6 +105,20 @@ void AddResult(py::module_& m) {
       .def_property_readonly(
           "sigma", [](const CameraResult& c) { return SigmaDict(c.sigma); },
           "1σ: position_mm, rotation_deg and the 6×6 covariance (mm, deg); None when unknown.")
+      .def_property_readonly(
+          "given_intrinsics_offset_px",
+          [](const CameraResult& c) -> py::object {
+            if (!c.given_intrinsics_offset_px) return py::none();
+            const Eigen::Vector4d& d = *c.given_intrinsics_offset_px;
+            py::dict out;
+            out["fx"] = d[0];
+            out["fy"] = d[1];
+            out["cx"] = d[2];
+            out["cy"] = d[3];
+            return std::move(out);
+          },
+          "What the views say the given fx, fy, cx, cy are off by (px), the shift sigma holds; "
+          "None where the given intrinsics are exact or refined.")
       .def_property_readonly("intrinsics",
                              [](const CameraResult& c) { return IntrinsicsDict(c.intrinsics); })
       .def("__repr__", &CameraRepr);

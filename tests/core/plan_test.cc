@@ -362,3 +362,51 @@ TEST_CASE(
     CHECK(predicted[k].position_mm / median < 1.15);
   }
 }
+
+TEST_CASE("Advice keeps the shift of given intrinsics the check finds off", "[plan][advise]") {
+  // cam1's given focal length 6 px (0.5 %) off: the solve's check finds it,
+  // the result says by how much, and cam1's σ holds the shift that causes
+  // (10 mm). More views will not take that shift away, as they take away one
+  // the views' noise draws, so advise counts it in the σ it expects (without
+  // it: 1.9 mm for this camera).
+  SyntheticScene scene = MediumScene(24, 8);
+  std::mt19937_64 rng(4);
+  AddProjectedObservations(&scene, 0.2, &rng);
+  Dataset given = scene.dataset;
+  given.cameras[1].params[0] += 6.0;
+  given.cameras[1].params[1] += 6.0;
+  const CalibrationResult result = Calibrate(given, CalibrationOptions{});
+  const CameraResult& cam1 = result.cameras[1];
+  REQUIRE(cam1.sigma);
+  REQUIRE(cam1.given_intrinsics_offset_px);
+  CHECK((*cam1.given_intrinsics_offset_px)[0] == Approx(-6.0).margin(1.5));
+  CHECK((*cam1.given_intrinsics_offset_px)[1] == Approx(-6.0).margin(1.5));
+  CHECK((*cam1.given_intrinsics_offset_px)[2] == 0.0);  // the principal point not found off
+  // The others' given values are right: what their views suggest is noise.
+  for (size_t k : {0, 2, 3}) {
+    REQUIRE(result.cameras[k].given_intrinsics_offset_px);
+    CHECK(result.cameras[k].given_intrinsics_offset_px->cwiseAbs().maxCoeff() < 3.0);
+  }
+
+  const PlanCell cell = PlanCellOfResult(given, result, std::nullopt);
+  REQUIRE(cell.cameras[1].given_intrinsics_offset_px);
+  PlanCell without = cell;
+  without.cameras[1].given_intrinsics_offset_px.reset();
+  const std::vector<PlannedPose> recorded = RecordedPoses(given, result);
+  const double now = PredictSigmaOfViews(cell, recorded).at("cam1").position_mm;
+  const double now_without = PredictSigmaOfViews(without, recorded).at("cam1").position_mm;
+  INFO("cam1: reported " << cam1.sigma->position_mm << " mm, advise now " << now
+                         << " mm, without the offset " << now_without << " mm");
+  CHECK(now / cam1.sigma->position_mm > 0.8);
+  CHECK(now / cam1.sigma->position_mm < 1.25);
+  CHECK(now_without < 0.3 * now);
+  // After more views the shift stays: the σ expected after the proposals
+  // still holds it.
+  PlanOptions options;
+  options.poses = 4;
+  options.candidates = 1500;
+  const Advice advice = Advise(cell, recorded, options);
+  REQUIRE(advice.next.poses.size() == 4);
+  CHECK(advice.next.poses.back().sigma_after.at("cam1").position_mm >
+        0.8 * cam1.sigma->position_mm);
+}

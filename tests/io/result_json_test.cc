@@ -31,6 +31,7 @@ CalibrationResult SampleResult(Setup setup) {
   sigma.rotation_deg = 0.0057;
   sigma.from_given_intrinsics = 0.5 * sigma.covariance;
   a.sigma = sigma;
+  a.given_intrinsics_offset_px = Eigen::Vector4d(0.0, 0.0, -3.5, 1.25);
   IntrinsicsResult intrinsics;
   std::string why;
   intrinsics.camera = *Camera::Make("cam0", 1920, 1080, 1375.5, 1374.25, 959.5, 539.75, {-0.05, 0.01, 0, 0, 0}, &why);
@@ -112,6 +113,9 @@ TEST_CASE("Result files round trip exactly, both setups", "[result]") {
     REQUIRE(back.target_sigma);
     CHECK(back.target_sigma->rotation_deg == 0.0057);
     CHECK_FALSE(back.cameras[1].sigma);
+    REQUIRE(back.cameras[0].given_intrinsics_offset_px);
+    CHECK(*back.cameras[0].given_intrinsics_offset_px == *r.cameras[0].given_intrinsics_offset_px);
+    CHECK_FALSE(back.cameras[1].given_intrinsics_offset_px);
     REQUIRE(back.cameras[0].intrinsics);
     const IntrinsicsResult& in = *back.cameras[0].intrinsics;
     CHECK(in.camera.params == r.cameras[0].intrinsics->camera.params);

@@ -53,6 +53,8 @@ def test_the_result_gives_numpy_transforms_sigma_and_the_json_it_saves(cell, tmp
         error_mm = 1000 * np.linalg.norm(camera.T_cam[:3, 3] - T_true[:3, 3])
         assert error_mm < 4 * camera.sigma["position_mm"] + 1.0
         assert camera.sigma["covariance"].shape == (6, 6)
+        offset = camera.given_intrinsics_offset_px  # the cell's given intrinsics are right
+        assert set(offset) == {"fx", "fy", "cx", "cy"} and max(abs(v) for v in offset.values()) < 5
         assert np.array_equal(result.T_cam[camera.name], camera.T_cam)
     assert result.T_target.shape == (4, 4)
     assert all(isinstance(w, str) for w in result.warnings)

@@ -297,6 +297,14 @@ struct CameraResult {
   /// for a closed form, that of the per-camera reprojection solve from the
   /// same views plus the closed form's distance from it.
   std::optional<PoseUncertainty> sigma;
+  /// Where `sigma` holds the given intrinsics as uncertain inputs
+  /// (CalibrationOptions::intrinsics_sigma): what the views say the given fx,
+  /// fy, cx, cy are off by (their estimate less the given value, pixels; 0
+  /// for values refined or without a σ), the shift `sigma` counts: the views
+  /// and that prior together, or where the intrinsics check finds a group off
+  /// (its warning) the views alone, that group's only. `advise` expects as
+  /// much of it to stay after more views as stands out of the views' noise.
+  std::optional<Eigen::Vector4d> given_intrinsics_offset_px;
   /// With CalibrationOptions::cross_validate: leave-one-pose-out figures.
   struct CrossValidation {
     int folds = 0;                 ///< poses left out that this camera saw

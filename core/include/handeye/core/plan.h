@@ -59,6 +59,10 @@ struct PlanCamera {
   /// PlanCell::pixel_sigma_px. `advise` sets it from each solved camera's
   /// residuals.
   double pixel_sigma_px = 0;
+  /// `advise`: what the recorded capture's solve found its given fx, fy, cx,
+  /// cy off by (CameraResult::given_intrinsics_offset_px). The forecast keeps
+  /// the shift that causes as far as it stands out of the views' noise.
+  std::optional<Eigen::Vector4d> given_intrinsics_offset_px;
 };
 
 /// Where the robot may put the flange.
