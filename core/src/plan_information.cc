@@ -174,11 +174,13 @@ void HoldRecorded(const Eigen::MatrixXd& information, Model* model) {
   // relative error: fx, fy → fx (1 + e), fy (1 + e); cx and cy in pixels),
   // kept by how far it stands out of that noise: the positive-part
   // James-Stein factor max(0, 1 − d / z²), z² its squared Mahalanobis length
-  // under the noise, d its coordinates. A camera of 4 views whose δc is a
-  // draw of its noise (bench/plan_advise, the given intrinsics right: δc
-  // 1 % of fx, and 0.3 % after 4 more views) keeps little of it; one whose
-  // given values are off keeps it, as the views keep finding it. Rows of S
-  // are held out as much, so the views recorded count once.
+  // under the noise, d its coordinates: a camera whose given values are off
+  // keeps it, as more views keep finding it; a δc that is a draw of the
+  // noise mostly not. Rows of S are held out as much, so the views recorded
+  // count once. This noise is too narrow by about 2 (bench/plan_advise, the
+  // given intrinsics right: z² of 12 values for 3 coordinates, mean 6.2, not
+  // 3), so a camera of 4 views keeps a δc of noise in some draws (there 3 of
+  // 6: its forecast 2-4 times the σ then reported).
   Eigen::VectorXd offset = Eigen::VectorXd::Zero(S.rows()),
                   weight = Eigen::VectorXd::Zero(S.rows());
   int at = 0;
@@ -383,12 +385,14 @@ std::vector<PredictedSigma> SigmaOf(const Model& model, const Eigen::MatrixXd& i
     posterior_inverse = posterior.ldlt().solve(Eigen::MatrixXd::Identity(nc, nc));
     S = posterior_inverse - P;
   }
-  // After a recorded capture (HoldRecorded) the shift its solve found stays
-  // (the views' estimate of an error is where more views expect it, as long
-  // as the error is real), moved by the new G; only the new views' noise is
-  // a draw: the information they add on c. (METRIC's published cell, whose
-  // given principal points are 2-6 px off: `advise` forecast 0.73 of the σ
-  // then reported, median of 20 cameras in 5 splits, without it.)
+  // After a recorded capture (HoldRecorded) the shift its solve found stays,
+  // as far as it is kept (the views' estimate of a real error is where more
+  // views expect it), moved by the new G; the rest of the noise is a draw:
+  // the information the new views add on c, and the recorded views' where
+  // not kept. (METRIC's published cell, 20 cameras in 5 splits: the σ
+  // expected after advise's proposals 0.73 of the σ then reported without
+  // it, median, 0.96 with it; bench/plan_advise with the given focal lengths
+  // 0.5 % off 0.27 and 0.65.)
   Eigen::MatrixXd S_draw = S;
   Eigen::VectorXd kept;  // Σ_post⁻¹ δc: G δc = X Σ_post⁻¹ δc
   if (nc > 0 && model.recorded_given_offset.size() == nc) {
