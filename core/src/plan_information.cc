@@ -179,8 +179,9 @@ void HoldRecorded(const Eigen::MatrixXd& information, Model* model) {
   // noise mostly not. Rows of S are held out as much, so the views recorded
   // count once. This noise is too narrow by about 2 (bench/plan_advise, the
   // given intrinsics right: z² of 12 values for 3 coordinates, mean 6.2, not
-  // 3), so a camera of 4 views keeps a δc of noise in some draws (there 3 of
-  // 6: its forecast 2-4 times the σ then reported).
+  // 3), so a camera of 4 views keeps much of a δc of noise in some draws
+  // (there 4 of 6, z² 7-18; in 2 its forecast 2.5-3.6 times the σ then
+  // reported).
   Eigen::VectorXd offset = Eigen::VectorXd::Zero(S.rows()),
                   weight = Eigen::VectorXd::Zero(S.rows());
   int at = 0;
