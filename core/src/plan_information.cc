@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <utility>
 
 #include "cost_functions.h"
 #include "handeye/core/setup_frames.h"
@@ -122,26 +123,27 @@ std::vector<int> GivenCoordinatesOf(const Model& model) {
   return c;
 }
 
-/// H⁻¹_cc of the coordinates `c` (Σ_post) and the views' information on
-/// them, S = (H⁻¹_cc)⁻¹ − P; false where `information` is singular.
-bool InformationOnGiven(const Model& model, const Eigen::MatrixXd& information,
-                        const std::vector<int>& c, Eigen::MatrixXd* posterior_inverse,
-                        Eigen::MatrixXd* S) {
+/// What the information says of the given intrinsics' error coordinates
+/// `c`: Σ_post = H⁻¹_cc, its inverse, and the views' information on them,
+/// S = (H⁻¹_cc)⁻¹ − P (P their prior).
+struct OnGiven {
+  Eigen::MatrixXd posterior, posterior_inverse, S;
+};
+
+/// OnGiven from `columns`, H⁻¹ e_c for each coordinate of `c` in order (rows: the unknowns).
+OnGiven OnGivenOf(const Model& model, const std::vector<int>& c, const Eigen::MatrixXd& columns) {
   const int nc = static_cast<int>(c.size());
-  const Eigen::LLT<Eigen::MatrixXd> llt(information);
-  if (llt.info() != Eigen::Success) return false;
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(model.size, nc);
-  for (int j = 0; j < nc; ++j) rhs(c[j], j) = 1.0;
-  const Eigen::MatrixXd columns = llt.solve(rhs);
-  Eigen::MatrixXd posterior(nc, nc), P(nc, nc);
+  OnGiven out;
+  out.posterior.resize(nc, nc);
+  Eigen::MatrixXd P(nc, nc);
   for (int i = 0; i < nc; ++i)
     for (int j = 0; j < nc; ++j) {
-      posterior(i, j) = columns(c[i], j);
+      out.posterior(i, j) = columns(c[i], j);
       P(i, j) = model.prior(c[i], c[j]);
     }
-  *posterior_inverse = posterior.ldlt().solve(Eigen::MatrixXd::Identity(nc, nc));
-  *S = *posterior_inverse - P;
-  return true;
+  out.posterior_inverse = out.posterior.ldlt().solve(Eigen::MatrixXd::Identity(nc, nc));
+  out.S = out.posterior_inverse - P;
+  return out;
 }
 
 /// The positive part of a symmetric matrix.
@@ -162,14 +164,16 @@ void HoldRecorded(const Eigen::MatrixXd& information, Model* model) {
     measured =
         measured || (model->given_offset[k] >= 0 && cell.cameras[k].given_intrinsics_offset_px);
   const std::vector<int> c = GivenCoordinatesOf(*model);
-  Eigen::MatrixXd posterior_inverse, S;
-  if (!measured || c.empty() || !InformationOnGiven(*model, information, c, &posterior_inverse, &S))
-    return;
+  if (!measured || c.empty()) return;
+  const Eigen::LLT<Eigen::MatrixXd> llt(information);
+  if (llt.info() != Eigen::Success) return;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(model->size, static_cast<Eigen::Index>(c.size()));
+  for (size_t j = 0; j < c.size(); ++j) rhs(c[j], static_cast<Eigen::Index>(j)) = 1.0;
+  const OnGiven given = OnGivenOf(*model, c, llt.solve(rhs));
+  const Eigen::MatrixXd& S = given.S;
   // What the views' noise alone makes of δc where the given values are
   // right: Σ_post S Σ_post (SigmaOf).
-  const Eigen::MatrixXd posterior =
-      posterior_inverse.ldlt().solve(Eigen::MatrixXd::Identity(S.rows(), S.cols()));
-  const Eigen::MatrixXd noise = posterior * PositivePart(S) * posterior;
+  const Eigen::MatrixXd noise = given.posterior * PositivePart(S) * given.posterior;
   // Per camera, the offset in the model's coordinates (the focal length's
   // relative error: fx, fy → fx (1 + e), fy (1 + e); cx and cy in pixels),
   // kept by how far it stands out of that noise: the positive-part
@@ -375,16 +379,12 @@ std::vector<PredictedSigma> SigmaOf(const Model& model, const Eigen::MatrixXd& i
   for (size_t k = 0; k < cameras; ++k) rhs.block(model.camera_offset[k], 6 * k, 6, 6).setIdentity();
   for (int j = 0; j < nc; ++j) rhs(c[j], 6 * cameras + j) = 1.0;
   const Eigen::MatrixXd columns = llt.solve(rhs);
-  Eigen::MatrixXd S, posterior_inverse;  // the views' information on c: (H⁻¹_cc)⁻¹ − P
+  // The views' information on c, S = (H⁻¹_cc)⁻¹ − P, and (H⁻¹_cc)⁻¹ = Σ_post⁻¹.
+  Eigen::MatrixXd S, posterior_inverse;
   if (nc > 0) {
-    Eigen::MatrixXd posterior(nc, nc), P(nc, nc);  // H⁻¹_cc = Σ_post, and c's prior
-    for (int i = 0; i < nc; ++i)
-      for (int j = 0; j < nc; ++j) {
-        posterior(i, j) = columns(c[i], 6 * cameras + j);
-        P(i, j) = model.prior(c[i], c[j]);
-      }
-    posterior_inverse = posterior.ldlt().solve(Eigen::MatrixXd::Identity(nc, nc));
-    S = posterior_inverse - P;
+    OnGiven given = OnGivenOf(model, c, columns.rightCols(nc));
+    S = std::move(given.S);
+    posterior_inverse = std::move(given.posterior_inverse);
   }
   // After a recorded capture (HoldRecorded) the shift its solve found stays,
   // as far as it is kept (the views' estimate of a real error is where more
