@@ -9,7 +9,6 @@
 //
 //   bench_plan_advise --seeds 6 --added 4 [--intrinsics-off 0.5/0]
 #include <CLI/CLI.hpp>
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -138,15 +137,8 @@ int main(int argc, char** argv) {
   if (!sigma_ratio.empty())
     std::printf("\nmedian improvement of %s: sigma %.2fx, true error %.2fx; RMS true error before / after %.2fx\n",
                 kCamera, Median(sigma_ratio), Median(error_ratio), Rms(errors_before) / Rms(errors_after));
-  if (!forecast_ratio.empty()) {
-    const long within = std::count_if(forecast_ratio.begin(), forecast_ratio.end(),
-                                      [](double r) { return r >= 0.7 && r <= 1.3; });
-    std::printf(
-        "every camera, sigma expected after / reported after: median %.2f (%.2f, %.2f), within 30 "
-        "%% %ld/%zu\n",
-        Median(forecast_ratio), *std::min_element(forecast_ratio.begin(), forecast_ratio.end()),
-        *std::max_element(forecast_ratio.begin(), forecast_ratio.end()), within,
-        forecast_ratio.size());
-  }
+  if (!forecast_ratio.empty())
+    std::printf("every camera, sigma expected after / reported after: median %s, within 30 %% %s\n",
+                RatioRange(forecast_ratio).c_str(), RatiosWithin30Percent(forecast_ratio).c_str());
   return 0;
 }

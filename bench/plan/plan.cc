@@ -342,21 +342,14 @@ int main(int argc, char** argv) {
                       mm("held"), mm("none") + " (" + solved_of("none") + " solved)",
                       ratio("none")});
     }
-    const double lo = *std::min_element(ratios.begin(), ratios.end());
-    const double hi = *std::max_element(ratios.begin(), ratios.end());
-    table.Add(
-        {cell_names[c], std::to_string(cameras), Format("%d/%d", solved, seeds),
-         Format("%.3f", Mean(mean_sampler)), Format("%.3f", Mean(mean_planned)),
-         Format("%.3f", Mean(worst_sampler)), Format("%.3f", Mean(worst_planned)),
-         Format("%.2fx", Mean(worst_sampler) / Mean(worst_planned)),
-         Format("%.2f (%.2f, %.2f)", Median(ratios), lo, hi),
-         Format("%d/%d",
-                static_cast<int>(std::count_if(ratios.begin(), ratios.end(),
-                                               [](double r) { return r >= 0.7 && r <= 1.3; })),
-                static_cast<int>(ratios.size())),
-         Format("%.2f", Rms(planned_errors) / Rms(predicted_sigma)),
-         Format("%.2f", Rms(planned_errors) / Rms(reported_sigma)), std::to_string(failed_plans),
-         Format("%d/%d", whole_views, claimed_views)});
+    table.Add({cell_names[c], std::to_string(cameras), Format("%d/%d", solved, seeds),
+               Format("%.3f", Mean(mean_sampler)), Format("%.3f", Mean(mean_planned)),
+               Format("%.3f", Mean(worst_sampler)), Format("%.3f", Mean(worst_planned)),
+               Format("%.2fx", Mean(worst_sampler) / Mean(worst_planned)), RatioRange(ratios),
+               RatiosWithin30Percent(ratios),
+               Format("%.2f", Rms(planned_errors) / Rms(predicted_sigma)),
+               Format("%.2f", Rms(planned_errors) / Rms(reported_sigma)),
+               std::to_string(failed_plans), Format("%d/%d", whole_views, claimed_views)});
   }
   std::printf("%s", table.Markdown().c_str());
   if (s.refine_intrinsics) std::printf("\n%s", refinement.Markdown().c_str());

@@ -50,6 +50,18 @@ double Rms(const std::vector<double>& v) {
   return std::sqrt(sum / v.size());
 }
 
+std::string RatioRange(const std::vector<double>& ratios) {
+  if (ratios.empty()) return "-";
+  const auto [lo, hi] = std::minmax_element(ratios.begin(), ratios.end());
+  return Format("%.2f (%.2f, %.2f)", Median(ratios), *lo, *hi);
+}
+
+std::string RatiosWithin30Percent(const std::vector<double>& ratios) {
+  const auto within =
+      std::count_if(ratios.begin(), ratios.end(), [](double r) { return r >= 0.7 && r <= 1.3; });
+  return Format("%d/%d", static_cast<int>(within), static_cast<int>(ratios.size()));
+}
+
 std::string Table::Markdown() const {
   std::vector<size_t> width(header_.size(), 3);
   for (size_t c = 0; c < header_.size(); ++c) width[c] = std::max(width[c], header_[c].size());

@@ -36,6 +36,11 @@ double Median(std::vector<double> v);
 /// sqrt(mean(v²)).
 double Rms(const std::vector<double>& v);
 
+/// Predicted over reported ratios, as the plan benches table them:
+/// "median (min, max)", and "N/M" of them within 30 % of 1 (0.7–1.3).
+std::string RatioRange(const std::vector<double>& ratios);
+std::string RatiosWithin30Percent(const std::vector<double>& ratios);
+
 /// A markdown table: header cells, then rows added one at a time.
 class Table {
  public:
