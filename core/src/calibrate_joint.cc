@@ -311,6 +311,8 @@ Refinement ModelChosenRounds(Calibration* c, Initialisation* init,
 void NoteRobotModel(Calibration* c, const RobotPrior& robot) {
   c->result.solver.robot_sigma_mm = robot.sigma_m * 1000.0;
   c->result.solver.robot_sigma_deg = robot.sigma_rad * 180.0 / M_PI;
+  c->result.solver.robot_sigma_solved_mm = robot.CovarianceSigmaM() * 1000.0;
+  c->result.solver.robot_sigma_solved_deg = robot.CovarianceSigmaRad() * 180.0 / M_PI;
   std::ostringstream note;
   note.precision(3);
   note << "the robot's own pose error is modelled (one pose block per robot pose): σ "
@@ -409,15 +411,22 @@ void SolveJointMethod(Calibration* c) {
   for (size_t k = 0; k < c->dataset.cameras.size(); ++k)
     if (c->est.T_cam_mount[k] && covariance.T_cam_mount_covariance[k])
       c->camera_covariance.Add(covariance, k);
-  if (covariance.T_holder_target_covariance)
+  if (covariance.T_holder_target_covariance) {
     c->result.target_sigma =
         UncertaintyOf(c->est.shared_T_holder_target, *covariance.T_holder_target_covariance, false);
+    if (covariance.T_holder_target_intrinsics_covariance)
+      c->result.target_sigma->from_given_intrinsics =
+          UncertaintyOf(c->est.shared_T_holder_target,
+                        *covariance.T_holder_target_intrinsics_covariance, false)
+              .covariance;
+  }
   RefinedIntrinsicsStage(c, init, covariance);
-  const double robot_mm = c->result.solver.robot_sigma_mm,
-               robot_deg = c->result.solver.robot_sigma_deg;
+  const SolverSummary noted = c->result.solver;  // the robot model's σ (NoteRobotModel)
   c->result.solver = refined.summary;
-  c->result.solver.robot_sigma_mm = robot_mm;
-  c->result.solver.robot_sigma_deg = robot_deg;
+  c->result.solver.robot_sigma_mm = noted.robot_sigma_mm;
+  c->result.solver.robot_sigma_deg = noted.robot_sigma_deg;
+  c->result.solver.robot_sigma_solved_mm = noted.robot_sigma_solved_mm;
+  c->result.solver.robot_sigma_solved_deg = noted.robot_sigma_solved_deg;
   c->result.solver.model = c->model_choice;
   CameraPairsStage(c, refined);
 }

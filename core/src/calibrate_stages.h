@@ -35,9 +35,10 @@ struct Estimate {
 /// Per camera (tangent of T_cam_mount): the covariance, and where the held
 /// given intrinsics at what the views and their prior say would move it
 /// (Refinement::T_cam_mount_intrinsics_shift).
-/// `from_intrinsics`: the part of `covariance` their uncertainty adds.
+/// `from_intrinsics`: the part of `covariance` their uncertainty adds;
+/// `with_target`: against T_holder_target's tangent, without that part.
 struct CameraCovariance {
-  std::map<size_t, Eigen::Matrix<double, 6, 6>> covariance, from_intrinsics;
+  std::map<size_t, Eigen::Matrix<double, 6, 6>> covariance, from_intrinsics, with_target;
   std::map<size_t, Eigen::Matrix<double, 6, 1>> intrinsics_shift;
   /// Its δc (Refinement::intrinsics_offset_px).
   std::map<size_t, Eigen::Vector4d> intrinsics_offset;
@@ -50,6 +51,9 @@ struct CameraCovariance {
       intrinsics_shift[k] = *computed.T_cam_mount_intrinsics_shift[k];
     if (k < computed.intrinsics_offset_px.size() && computed.intrinsics_offset_px[k])
       intrinsics_offset[k] = *computed.intrinsics_offset_px[k];
+    if (k < computed.T_cam_mount_target_covariance.size() &&
+        computed.T_cam_mount_target_covariance[k])
+      with_target[k] = *computed.T_cam_mount_target_covariance[k];
   }
 };
 

@@ -115,8 +115,12 @@ PlanCell PlanCellOfResult(const Dataset& dataset, const CalibrationResult& resul
   cell.target_rotation_sigma_rad = std::max(kMinRotationRad, result.target_sigma ? result.target_sigma->rotation_deg * kDeg : 0.0);
   if (cameras > 0 && sum_squares > 0) cell.pixel_sigma_px = std::sqrt(sum_squares / cameras / 2.0);
   CameraNoise(result, &cell);
-  cell.robot_sigma_mm = result.solver.robot_sigma_mm;
-  cell.robot_sigma_deg = result.solver.robot_sigma_deg;
+  // The robot's error the σ reported assumes (results written before it: the
+  // prior the solve weighed with, wide on purpose).
+  const bool solved = result.solver.robot_sigma_solved_mm > 0;
+  cell.robot_sigma_mm = solved ? result.solver.robot_sigma_solved_mm : result.solver.robot_sigma_mm;
+  cell.robot_sigma_deg =
+      solved ? result.solver.robot_sigma_solved_deg : result.solver.robot_sigma_deg;
   cell.intrinsics_sigma = result.options.intrinsics_sigma;  // as the solve weighed them
   cell.cross_terms = result.options.cross_terms;
   if (!given) cell.region = RegionOfPoses(RecordedPoses(dataset, result));

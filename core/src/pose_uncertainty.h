@@ -15,4 +15,9 @@ namespace handeye::internal {
 PoseUncertainty UncertaintyOf(const Eigen::Isometry3d& T,
                               const Eigen::Matrix<double, 6, 6>& tangent_covariance, bool invert);
 
+/// d(position mm, rotation deg of P)/d(tangent of T), P = T or T⁻¹ with
+/// `invert` (PoseUncertainty's coordinates: the rotation vector of the error
+/// in P's parent frame).
+Eigen::Matrix<double, 6, 6> UncertaintyJacobian(const Eigen::Isometry3d& T, bool invert);
+
 }  // namespace handeye::internal

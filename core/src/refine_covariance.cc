@@ -77,23 +77,23 @@ Eigen::MatrixXd SandwichCorrection(const std::vector<RobotPoseBlock>& robot_pose
 }
 
 /// The part of block x's covariance its refined intrinsics' uncertainty
-/// adds: C_xK C_KK⁻¹ C_Kx over K's free coordinates (`solve(a, b)`: the
-/// solve's covariance block; the held ones' rows are 0). What is left is x's
-/// covariance were the intrinsics known; a later estimate through the same
-/// intrinsics shares the rest (check leaves it out, as the held ones').
+/// adds: C_xK C_KK⁻¹ C_Ky over K's free coordinates (`solve(a, b)`: the
+/// solve's covariance block; the held ones' rows are 0), x against y (x's
+/// own: y = x). What is left is the covariance were the intrinsics known; a
+/// later estimate through the same intrinsics shares the rest (check leaves
+/// it out, as the held ones').
 template <typename SolveCovariance>
-Eigen::MatrixXd FromRefinedIntrinsics(const double* x, const double* K,
+Eigen::MatrixXd FromRefinedIntrinsics(const double* x, const double* y, const double* K,
                                       const std::vector<int>& held, const SolveCovariance& solve) {
-  const Eigen::MatrixXd C_KK = solve(K, K), C_xK = solve(x, K);
+  const Eigen::MatrixXd C_KK = solve(K, K), C_xK = solve(x, K), C_yK = solve(y, K);
   std::vector<int> free;
   for (int i = 0; i < C_KK.rows(); ++i)
     if (std::find(held.begin(), held.end(), i) == held.end()) free.push_back(i);
-  const Eigen::MatrixXd zero = Eigen::MatrixXd::Zero(C_xK.rows(), C_xK.rows());
+  const Eigen::MatrixXd zero = Eigen::MatrixXd::Zero(C_xK.rows(), C_yK.rows());
   if (free.empty()) return zero;
-  const Eigen::MatrixXd C_xf = C_xK(Eigen::all, free);
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(C_KK(free, free));
   if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all()) return zero;
-  return C_xf * ldlt.solve(C_xf.transpose());
+  return C_xK(Eigen::all, free) * ldlt.solve(C_yK(Eigen::all, free).transpose());
 }
 
 /// Fewer robot poses than this and their scatter tells too little to widen σ by.
@@ -194,6 +194,7 @@ std::vector<std::pair<const double*, const double*>> CovariancePairs(
   std::vector<std::pair<const double*, const double*>> pairs;
   for (double* block : wanted) {
     pairs.emplace_back(block, block);
+    if (block != T_holder_target) pairs.emplace_back(block, T_holder_target);
     for (const RobotPoseBlock& pose : robot_poses) pairs.emplace_back(block, pose.pose);
     for (double* other : scattered) pairs.emplace_back(block, other);
   }
@@ -242,6 +243,20 @@ IntrinsicsSigmas UndeterminedIntrinsicsSigma(const ceres::Problem& problem, cons
   return sigma;
 }
 
+/// Every covariance field of `out` empty, for `cameras` cameras and
+/// `intrinsics` intrinsics blocks (their σ 0).
+void ClearCovariance(size_t cameras, size_t intrinsics, Refinement* out) {
+  out->intrinsics_sigma.assign(intrinsics, {});
+  for (auto& s : out->intrinsics_sigma) s.fill(0.0);
+  out->T_cam_mount_covariance.assign(cameras, std::nullopt);
+  out->T_cam_mount_intrinsics_shift.assign(cameras, std::nullopt);
+  out->intrinsics_offset_px.assign(cameras, std::nullopt);
+  out->T_cam_mount_intrinsics_covariance.assign(cameras, std::nullopt);
+  out->T_cam_mount_target_covariance.assign(cameras, std::nullopt);
+  out->T_holder_target_covariance.reset();
+  out->T_holder_target_intrinsics_covariance.reset();
+}
+
 }  // namespace
 
 /// The covariance of the solution: tangent-space 6×6 of the pose blocks
@@ -260,10 +275,7 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
                         const std::optional<RobotPrior>& robot,
                         const std::vector<RobotPoseBlock>& robot_poses,
                         ConsiderCovariance* covariance, int threads, Refinement* out) {
-  out->intrinsics_sigma.assign(K.size(), {});
-  for (auto& s : out->intrinsics_sigma) s.fill(0.0);
-  out->T_cam_mount_covariance.assign(T_cam_mount.size(), std::nullopt);
-  out->T_holder_target_covariance.reset();
+  ClearCovariance(T_cam_mount.size(), K.size(), out);
   const bool sandwich = robot && !robot_poses.empty() && robot->CovarianceApart();
   const std::vector<double*> scattered = ScatterBlocks(*problem, robot_poses);
   const double variance_factor = VarianceFactor(problem, views);
@@ -288,22 +300,27 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
     return scores.size() ? WideningOf(C, Scatter(block, scattered, scores, tangent_block))
                          : Eigen::Matrix<double, 6, 1>::Ones().eval();
   };
-  out->T_cam_mount_intrinsics_shift.assign(T_cam_mount.size(), std::nullopt);
-  out->intrinsics_offset_px.assign(T_cam_mount.size(), std::nullopt);
-  out->T_cam_mount_intrinsics_covariance.assign(T_cam_mount.size(), std::nullopt);
   if (ok) {
+    const Eigen::Matrix<double, 6, 6> C_T = solve_covariance(T_holder_target, T_holder_target);
+    const Eigen::DiagonalMatrix<double, 6> D_T(widening(T_holder_target, C_T));
     // Each camera's covariance less what its refined intrinsics add, which
     // joins what the held ones' error adds (already in the units of the
-    // parameters: no variance factor).
+    // parameters: no variance factor); and against the target, without either.
     for (size_t k = 0; k < T_cam_mount.size(); ++k)
       if (T_cam_mount[k] && !problem->IsParameterBlockConstant(T_cam_mount[k])) {
         const Eigen::Matrix<double, 6, 6> C = solve_covariance(T_cam_mount[k], T_cam_mount[k]);
         const Eigen::DiagonalMatrix<double, 6> D(widening(T_cam_mount[k], C));
-        const Eigen::Matrix<double, 6, 6> refined =
-            K[k] ? Eigen::Matrix<double, 6, 6>(FromRefinedIntrinsics(
-                       T_cam_mount[k], K[k], covariance->Held(K[k]), solve_covariance))
-                 : Eigen::Matrix<double, 6, 6>::Zero();
+        auto from_refined = [&](const double* other) {
+          return K[k] ? Eigen::Matrix<double, 6, 6>(FromRefinedIntrinsics(
+                            T_cam_mount[k], other, K[k], covariance->Held(K[k]), solve_covariance))
+                      : Eigen::Matrix<double, 6, 6>::Zero();
+        };
+        const Eigen::Matrix<double, 6, 6> refined = from_refined(T_cam_mount[k]);
         out->T_cam_mount_covariance[k] = D * (C - refined) * D;
+        out->T_cam_mount_target_covariance[k] =
+            D *
+            (solve_covariance(T_cam_mount[k], T_holder_target) - from_refined(T_holder_target)) *
+            D_T;
         out->T_cam_mount_intrinsics_shift[k] = covariance->Shift(T_cam_mount[k], variance_factor);
         if (K[k] && !covariance->Held(K[k]).empty())
           out->intrinsics_offset_px[k] = covariance->Suggested(K[k], variance_factor).head<4>();
@@ -311,10 +328,9 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
             Eigen::Matrix<double, 6, 6>(covariance->Consider(T_cam_mount[k], variance_factor)) +
             D * refined * D;
       }
-    const Eigen::Matrix<double, 6, 6> C = solve_covariance(T_holder_target, T_holder_target);
-    const Eigen::DiagonalMatrix<double, 6> D(widening(T_holder_target, C));
-    out->T_holder_target_covariance =
-        D * C * D + covariance->Consider(T_holder_target, variance_factor);
+    out->T_holder_target_intrinsics_covariance =
+        covariance->Consider(T_holder_target, variance_factor);
+    out->T_holder_target_covariance = D_T * C_T * D_T + *out->T_holder_target_intrinsics_covariance;
   }
   for (size_t k = 0; k < K.size(); ++k) {
     if (!K[k]) continue;

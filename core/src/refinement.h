@@ -42,6 +42,11 @@ struct Refinement {
   /// held given intrinsics' uncertainty adds (ConsiderCovariance::Consider).
   std::vector<std::optional<Eigen::Matrix<double, 6, 6>>> T_cam_mount_intrinsics_covariance;
   std::optional<Eigen::Matrix<double, 6, 6>> T_holder_target_covariance;
+  /// Its part the held given intrinsics' uncertainty adds.
+  std::optional<Eigen::Matrix<double, 6, 6>> T_holder_target_intrinsics_covariance;
+  /// With the covariance: per camera, T_cam_mount against T_holder_target
+  /// (tangents), without what the given and the camera's refined intrinsics add.
+  std::vector<std::optional<Eigen::Matrix<double, 6, 6>>> T_cam_mount_target_covariance;
 };
 
 /// Starts the next joint solve from `solved`: its camera transforms (where it

@@ -21,8 +21,7 @@ namespace internal {
 
 // Ceres' quaternion manifold turns by 2|δ| for a step δ, hence the
 // Jacobians with respect to the tangent are differentiated, not assumed.
-PoseUncertainty UncertaintyOf(const Eigen::Isometry3d& T,
-                              const Eigen::Matrix<double, 6, 6>& tangent_covariance, bool invert) {
+Eigen::Matrix<double, 6, 6> UncertaintyJacobian(const Eigen::Isometry3d& T, bool invert) {
   PoseManifold manifold;
   const PoseParams T0 = ToPoseParams(T);
   const Eigen::Isometry3d P0 = invert ? T.inverse() : T;
@@ -47,6 +46,12 @@ PoseUncertainty UncertaintyOf(const Eigen::Isometry3d& T,
                            RotationVectorFromMatrix(Pm.linear() * P0.linear().transpose())) /
                           (2 * h);
   }
+  return J;
+}
+
+PoseUncertainty UncertaintyOf(const Eigen::Isometry3d& T,
+                              const Eigen::Matrix<double, 6, 6>& tangent_covariance, bool invert) {
+  const Eigen::Matrix<double, 6, 6> J = UncertaintyJacobian(T, invert);
   PoseUncertainty out;
   out.covariance = J * tangent_covariance * J.transpose();
   out.position_mm = std::sqrt(std::max(0.0, out.covariance.topLeftCorner<3, 3>().trace()));

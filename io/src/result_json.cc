@@ -48,6 +48,8 @@ nlohmann::ordered_json SigmaJson(const PoseUncertainty& sigma) {
   nlohmann::ordered_json out = {
       {"position_mm", sigma.position_mm}, {"rotation_deg", sigma.rotation_deg}, {"covariance", Matrix6Json(sigma.covariance)}};
   if (!sigma.from_given_intrinsics.isZero()) out["covariance_from_given_intrinsics"] = Matrix6Json(sigma.from_given_intrinsics);
+  if (sigma.covariance_with_target)
+    out["covariance_with_target"] = Matrix6Json(*sigma.covariance_with_target);
   return out;
 }
 
@@ -69,6 +71,8 @@ PoseUncertainty ReadSigma(const JsonReader& r) {
   sigma.covariance = ReadMatrix6(r.Key("covariance"));
   if (r.Has("covariance_from_given_intrinsics"))
     sigma.from_given_intrinsics = ReadMatrix6(r.Key("covariance_from_given_intrinsics"));
+  if (r.Has("covariance_with_target"))
+    sigma.covariance_with_target = ReadMatrix6(r.Key("covariance_with_target"));
   return sigma;
 }
 
@@ -265,7 +269,9 @@ std::string ResultJson(const CalibrationResult& result) {
                     {"cauchy_scale_px", result.solver.cauchy_scale_px},
                     {"rounds", result.solver.rounds},
                     {"robot_sigma_mm", result.solver.robot_sigma_mm},
-                    {"robot_sigma_deg", result.solver.robot_sigma_deg}};
+                    {"robot_sigma_deg", result.solver.robot_sigma_deg},
+                    {"robot_sigma_solved_mm", result.solver.robot_sigma_solved_mm},
+                    {"robot_sigma_solved_deg", result.solver.robot_sigma_solved_deg}};
   if (result.solver.model) {
     nlohmann::ordered_json candidates = nlohmann::ordered_json::array();
     for (const ModelCandidate& m : result.solver.model->candidates)
@@ -381,6 +387,10 @@ CalibrationResult LoadResult(const std::string& path) {
   if (solver.Has("rounds")) result.solver.rounds = solver.Key("rounds").Int(0);
   if (solver.Has("robot_sigma_mm")) result.solver.robot_sigma_mm = solver.Key("robot_sigma_mm").Number();
   if (solver.Has("robot_sigma_deg")) result.solver.robot_sigma_deg = solver.Key("robot_sigma_deg").Number();
+  if (solver.Has("robot_sigma_solved_mm"))  // results written before it: 0, the prior's is taken
+    result.solver.robot_sigma_solved_mm = solver.Key("robot_sigma_solved_mm").Number();
+  if (solver.Has("robot_sigma_solved_deg"))
+    result.solver.robot_sigma_solved_deg = solver.Key("robot_sigma_solved_deg").Number();
   if (solver.Has("model")) {
     const JsonReader model = solver.Key("model");
     ModelChoice choice;

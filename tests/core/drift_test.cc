@@ -16,15 +16,16 @@ using namespace handeye;
 
 namespace {
 
-SyntheticScene Capture(int poses, std::uint64_t pose_seed, const std::string& bumped = "") {
+SyntheticScene Capture(int poses, std::uint64_t pose_seed, const std::string& bumped = "",
+                       double robot_mm = 0.1) {
   SceneOptions options;
   options.cell = "medium";
   options.num_cameras = 4;
   options.num_poses = poses;
   options.seed = 21;
   options.pose_seed = pose_seed;
-  options.pose_noise_mm = 0.1;
-  options.pose_noise_deg = 0.01;
+  options.pose_noise_mm = robot_mm;
+  options.pose_noise_deg = robot_mm / 10;
   options.bumped_camera = bumped;
   options.bump_mm = 5.0;
   options.bump_deg = 0.2;
@@ -124,11 +125,13 @@ TEST_CASE("check counts the new poses' robot error in its noise where the calibr
   // 1.5 times the check's σ here (and 3.4 times on rendered cells).
   CalibrationOptions given;
   given.robot_sigma_mm = 0.1;
-  given.robot_sigma_deg = 0.01;
+  given.robot_sigma_deg =
+      0.01 / std::sqrt(3.0);  // per axis: the simulated turn is 0.01° about a random axis
   const CalibrationResult calibration = Calibrate(Capture(20, 0).dataset, given);
   REQUIRE(calibration.solver.robot_sigma_mm == Approx(0.1));
   CalibrationResult blind = calibration;  // as if the robot had been taken as exact
   blind.solver.robot_sigma_mm = blind.solver.robot_sigma_deg = 0;
+  blind.solver.robot_sigma_solved_mm = blind.solver.robot_sigma_solved_deg = 0;
   double sum_sq = 0, blind_sum_sq = 0;
   int cameras = 0, moved = 0;
   for (std::uint64_t seed = 100; seed < 110; ++seed) {
@@ -160,7 +163,8 @@ TEST_CASE("check counts the new poses' robot error in its noise where the calibr
   ModelChoice choice;
   choice.chosen = "exact robot";
   choice.folds = 4;
-  choice.candidates = {{"exact robot", 0.2, 1000}, {"robot error modelled", 0.3, 1000, 0.1, 0.01}};
+  choice.candidates = {{"exact robot", 0.2, 1000},
+                       {"robot error modelled", 0.3, 1000, 0.1, given.robot_sigma_deg}};
   exact_chosen.solver.model = choice;
   const Dataset later = Capture(8, 100).dataset;
   const DriftResult modelled = CheckDrift(later, calibration, DriftOptions{});
@@ -168,5 +172,93 @@ TEST_CASE("check counts the new poses' robot error in its noise where the calibr
   for (size_t i = 0; i < modelled.cameras.size(); ++i) {
     CHECK(chosen.cameras[i].sigma_mm == Approx(modelled.cameras[i].sigma_mm));
     CHECK(chosen.cameras[i].moved_mm == Approx(modelled.cameras[i].moved_mm));
+  }
+}
+
+TEST_CASE("check takes the robot error the cameras' sigma assumes, not the solve's wide prior",
+          "[drift]") {
+  // The default solve on records 0.5 mm / 0.05° off: the prior it weighs them
+  // with is estimated wide on purpose; the σ the solved pose blocks show is
+  // what the cameras' sigma assumes, and what new poses carry.
+  const CalibrationResult calibration =
+      Calibrate(Capture(20, 0, "", 0.5).dataset, CalibrationOptions{});
+  const SolverSummary& solver = calibration.solver;
+  INFO("prior " << solver.robot_sigma_mm << " mm / " << solver.robot_sigma_deg << " deg, solved "
+                << solver.robot_sigma_solved_mm << " mm / " << solver.robot_sigma_solved_deg
+                << " deg");
+  REQUIRE(solver.robot_sigma_solved_mm > 0);
+  // σ per axis: 0.5 mm and 0.05° / √3 (the simulated turn is about a random axis).
+  CHECK(solver.robot_sigma_solved_mm > 0.5 / 2);
+  CHECK(solver.robot_sigma_solved_mm < 0.5 * 2);
+  CHECK(solver.robot_sigma_solved_deg > 0.05 / std::sqrt(3.0) / 2);
+  CHECK(solver.robot_sigma_solved_deg < 0.05 / std::sqrt(3.0) * 2);
+
+  // The same solution under three accounts of the robot's error: the solved
+  // σ beside a prior twice as wide, that σ as the only one (a result written
+  // before the field), and the exact robot chosen over the models compared
+  // (the solved poses' σ the last candidate).
+  CalibrationResult wide = calibration, only = calibration, exact = calibration,
+                    prior = calibration;
+  wide.solver.robot_sigma_mm = 1.0;
+  wide.solver.robot_sigma_deg = 0.06;
+  wide.solver.robot_sigma_solved_mm = only.solver.robot_sigma_mm = 0.5;
+  wide.solver.robot_sigma_solved_deg = only.solver.robot_sigma_deg = 0.03;
+  only.solver.robot_sigma_solved_mm = only.solver.robot_sigma_solved_deg = 0;
+  prior.solver = wide.solver;
+  prior.solver.robot_sigma_solved_mm = prior.solver.robot_sigma_solved_deg = 0;
+  exact.solver.robot_sigma_mm = exact.solver.robot_sigma_deg = 0;
+  exact.solver.robot_sigma_solved_mm = exact.solver.robot_sigma_solved_deg = 0;
+  ModelChoice choice;
+  choice.chosen = "exact robot";
+  choice.folds = 4;
+  choice.candidates = {{"exact robot", 0.2, 1000},
+                       {"robot error modelled", 0.3, 1000, 1.0, 0.06},
+                       {"robot error modelled at the solved poses' σ", 0.25, 1000, 0.5, 0.03}};
+  exact.solver.model = choice;
+  const Dataset later = Capture(8, 100, "", 0.5).dataset;
+  const DriftResult by_wide = CheckDrift(later, wide, DriftOptions{}),
+                    by_only = CheckDrift(later, only, DriftOptions{}),
+                    by_exact = CheckDrift(later, exact, DriftOptions{}),
+                    by_prior = CheckDrift(later, prior, DriftOptions{});
+  int wider = 0;
+  for (size_t i = 0; i < by_wide.cameras.size(); ++i) {
+    if (!by_wide.cameras[i].estimated) continue;
+    CHECK(by_wide.cameras[i].sigma_mm == Approx(by_only.cameras[i].sigma_mm));
+    CHECK(by_exact.cameras[i].sigma_mm == Approx(by_only.cameras[i].sigma_mm));
+    wider += by_prior.cameras[i].sigma_mm > 1.2 * by_wide.cameras[i].sigma_mm;
+  }
+  CHECK(wider >= 3);
+}
+
+TEST_CASE("check's sigma holds the calibrated target's error as far as the new estimate follows it",
+          "[drift]") {
+  const CalibrationResult calibration = Calibrate(Capture(20, 0).dataset, CalibrationOptions{});
+  REQUIRE(calibration.target_sigma);
+  for (const CameraResult& camera : calibration.cameras) {
+    REQUIRE(camera.sigma);
+    REQUIRE(camera.sigma->covariance_with_target);  // every camera of the joint solve
+  }
+  // The same cameras against a target known exactly, and against one known
+  // 10 times worse than solved, each apart from the cameras' errors: the
+  // target held in the check moves the new estimate, and its error with it.
+  CalibrationResult exact_target = calibration, poor_target = calibration;
+  const PoseUncertainty& target = *calibration.target_sigma;
+  exact_target.target_sigma->covariance = exact_target.target_sigma->from_given_intrinsics;
+  poor_target.target_sigma->covariance =
+      target.from_given_intrinsics + 100.0 * (target.covariance - target.from_given_intrinsics);
+  for (CalibrationResult* r : {&exact_target, &poor_target})
+    for (CameraResult& camera : r->cameras) camera.sigma->covariance_with_target->setZero();
+  CalibrationResult written_before = calibration;  // without the field: the two apart
+  for (CameraResult& camera : written_before.cameras) camera.sigma->covariance_with_target.reset();
+  const Dataset later = Capture(8, 100).dataset;
+  const DriftResult by_exact = CheckDrift(later, exact_target, DriftOptions{}),
+                    by_poor = CheckDrift(later, poor_target, DriftOptions{}),
+                    by_before = CheckDrift(later, written_before, DriftOptions{});
+  for (size_t i = 0; i < by_exact.cameras.size(); ++i) {
+    INFO(by_exact.cameras[i].name);
+    REQUIRE(by_exact.cameras[i].estimated);
+    CHECK(by_before.cameras[i].sigma_mm == Approx(by_exact.cameras[i].sigma_mm).epsilon(1e-9));
+    CHECK(by_poor.cameras[i].sigma_mm > 1.5 * by_exact.cameras[i].sigma_mm);
+    CHECK(by_poor.cameras[i].sigma_deg > by_exact.cameras[i].sigma_deg);
   }
 }

@@ -30,6 +30,9 @@ CalibrationResult SampleResult(Setup setup) {
   sigma.position_mm = 0.245;
   sigma.rotation_deg = 0.0057;
   sigma.from_given_intrinsics = 0.5 * sigma.covariance;
+  r.target_sigma = sigma;
+  sigma.covariance_with_target = -0.25 * sigma.covariance.transpose();
+  sigma.covariance_with_target->row(0).setConstant(0.125);  // not symmetric
   a.sigma = sigma;
   a.given_intrinsics_offset_px = Eigen::Vector4d(0.0, 0.0, -3.5, 1.25);
   IntrinsicsResult intrinsics;
@@ -46,7 +49,6 @@ CalibrationResult SampleResult(Setup setup) {
   b.calibrated = false;
   r.cameras = {a, b};
   r.T_target = MakeTransformFromRotationVector({0.1, 0.2, 0.3}, {0.01, 0.02, 0.1});
-  r.target_sigma = sigma;
   CameraPairResult p;
   p.camera_k = "cam0";
   p.camera_t = "cam1";
@@ -58,6 +60,10 @@ CalibrationResult SampleResult(Setup setup) {
   r.solver.iterations = 6;
   r.solver.converged = true;
   r.solver.termination = "CONVERGENCE";
+  r.solver.robot_sigma_mm = 0.25;
+  r.solver.robot_sigma_deg = 0.0125;
+  r.solver.robot_sigma_solved_mm = 0.125;
+  r.solver.robot_sigma_solved_deg = 0.00625;
   ViewResult v;
   v.pose_id = "0001";
   v.camera = "cam0";
@@ -101,6 +107,10 @@ TEST_CASE("Result files round trip exactly, both setups", "[result]") {
     CHECK(back.camera_pairs[0].shared_views == 4);
     CHECK(back.metrics.axzb_translation_mm == 4.9);
     CHECK(back.solver.iterations == 6);
+    CHECK(back.solver.robot_sigma_mm == 0.25);
+    CHECK(back.solver.robot_sigma_deg == 0.0125);
+    CHECK(back.solver.robot_sigma_solved_mm == 0.125);
+    CHECK(back.solver.robot_sigma_solved_deg == 0.00625);
     REQUIRE(back.views.size() == 2);
     CHECK(back.views[1].rejected_because == "fewer than 4 points");
     CHECK(back.warnings == r.warnings);
@@ -109,8 +119,13 @@ TEST_CASE("Result files round trip exactly, both setups", "[result]") {
     REQUIRE(back.cameras[0].sigma);
     CHECK(back.cameras[0].sigma->covariance == r.cameras[0].sigma->covariance);
     CHECK(back.cameras[0].sigma->from_given_intrinsics == r.cameras[0].sigma->from_given_intrinsics);
+    REQUIRE(back.cameras[0].sigma->covariance_with_target);
+    CHECK(*back.cameras[0].sigma->covariance_with_target ==
+          *r.cameras[0].sigma->covariance_with_target);
     CHECK(back.cameras[0].sigma->position_mm == 0.245);
     REQUIRE(back.target_sigma);
+    CHECK_FALSE(back.target_sigma->covariance_with_target);
+    CHECK(back.target_sigma->from_given_intrinsics == r.target_sigma->from_given_intrinsics);
     CHECK(back.target_sigma->rotation_deg == 0.0057);
     CHECK_FALSE(back.cameras[1].sigma);
     REQUIRE(back.cameras[0].given_intrinsics_offset_px);

@@ -218,6 +218,12 @@ struct PoseUncertainty {
   /// as its intrinsics are the same, so `check` leaves it out (the new views
   /// carry it too).
   Eigen::Matrix<double, 6, 6> from_given_intrinsics = Eigen::Matrix<double, 6, 6>::Zero();
+  /// A camera of the joint solve: the covariance of this pose's (x, y, z mm;
+  /// rx, ry, rz deg) with the target transform's (`T_target`, the same
+  /// units), without what the given intrinsics add. `check` holds the target
+  /// as calibrated, and an error of it moves the new estimate much as it
+  /// moved this one: their difference is not as uncertain as the two apart.
+  std::optional<Eigen::Matrix<double, 6, 6>> covariance_with_target;
   /// position_mm and rotation_deg without `from_given_intrinsics`: how far
   /// the views themselves leave the camera free.
   double OwnPositionMm() const;
@@ -373,10 +379,18 @@ struct SolverSummary {
   double cauchy_scale_px = 0;  ///< the robust loss scale used (0 for closed forms)
   int rounds = 0;  ///< solves run (each after excluding views off the previous one)
   /// The robot pose error modelled (σ per axis: the prior the solve weighs the
-  /// records with), 0 when the poses were taken as exact. The σ the solved
-  /// poses show, which the cameras' sigma assumes, is in the result's notes.
+  /// records with), 0 when the poses were taken as exact.
   double robot_sigma_mm = 0;
   double robot_sigma_deg = 0;
+  /// The robot pose error the cameras' sigma assumes (σ per axis): the spread
+  /// of the solved pose blocks about the solution, times the share of the
+  /// records' degrees of freedom the solved unknowns took (the notes say
+  /// both); 0 when the poses were taken as exact. `check` and `advise` take
+  /// it for new poses: the prior is estimated wide on purpose (on rendered
+  /// cells with a robot of 0.1 mm per axis, 0.09-0.26 mm where this was
+  /// 0.11-0.12 mm).
+  double robot_sigma_solved_mm = 0;
+  double robot_sigma_solved_deg = 0;
   /// Set when the robot model was chosen by held-out poses (the default,
   /// --robot-sigma-mm not given, once the views suggest a robot error).
   std::optional<ModelChoice> model;
