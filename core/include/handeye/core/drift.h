@@ -34,7 +34,9 @@ struct CameraDrift {
   double moved_mm = 0;   ///< distance between the calibrated and the new camera centre
   double moved_deg = 0;  ///< angle between the calibrated and the new orientation
   /// 1σ of the move (sqrt of the trace, as PoseUncertainty): the new
-  /// estimate's and the calibration's own (the result's sigma) together.
+  /// estimate's, and the calibration's own (the result's sigma without what
+  /// the given intrinsics add) as far as the target, held as calibrated,
+  /// does not carry it into the new estimate too.
   double sigma_mm = 0;
   double sigma_deg = 0;
   int views = 0;  ///< new views used
