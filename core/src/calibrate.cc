@@ -19,7 +19,6 @@
 #include "motion_diversity.h"
 #include "pose_uncertainty.h"
 #include "problem.h"
-#include "residuals.h"
 #include "setup_mistakes.h"
 #include "view_consensus.h"
 
@@ -284,33 +283,17 @@ void FillResultStage(Calibration* c) {
       c->result.cameras[k].cross_validation = c->camera_validation[k];
 }
 
-/// RMS (pixels) of camera k's used views' points through the solved chain
-/// (CameraResult::rms_px, which DiagnoseSolution fills after this stage).
-double CameraRmsPx(const Calibration& c, size_t k) {
-  const internal::TargetPoses targets = c.est.Targets();
-  double sum_squares = 0;
-  size_t points = 0;
-  for (int v : c.problem.camera_views[k])
-    for (double e :
-         internal::ViewErrors(c.problem, c.problem.views[v], *c.est.T_cam_mount[k], targets[k])) {
-      sum_squares += e * e;
-      ++points;
-    }
-  return points ? std::sqrt(sum_squares / points) : 0.0;
-}
-
 /// Stage 6: do the views agree with the focal length and principal point
 /// not refined (CalibrationOptions::check_intrinsics)? Then each camera's σ.
 /// Intrinsics the views find off bias the camera, which no covariance of the
 /// solve with them held holds: its σ takes the shift as a term of its own,
 /// the one the views alone give (not drawn to the given values by the prior,
-/// as the solve's is). Where the camera's views fit its model (residual RMS
-/// within QualityThresholds::max_camera_rms_px), the shift is an offset of
-/// the given fx, fy, cx, cy that new views through them share: it joins the
-/// part the given intrinsics add, which `check` leaves out. Where they do
-/// not, the check has read a misfit of the model as such a shift, which new
-/// views need not share: it counts as the views' own. Unmoved cameras moved,
-/// in units of the check's σ (bench/leave-out, mm / deg), on rendered cells
+/// as the solve's is). Where the camera's views fit its model (CameraResult::rms_px,
+/// which DiagnoseSolution filled, within QualityThresholds::max_camera_rms_px), the shift is an
+/// offset of the given fx, fy, cx, cy that new views through them share: it joins the part the
+/// given intrinsics add, which `check` leaves out. Where they do not, the check has read a misfit
+/// of the model as such a shift, which new views need not share: it counts as the views' own.
+/// Unmoved cameras moved, in units of the check's σ (bench/leave-out, mm / deg), on rendered cells
 /// with given intrinsics 1 % / 3 px off 1.10 / 0.95 left out and 0.15 / 0.57
 /// kept in; on METRIC as published (principal points off) 1.01 / 0.97 and
 /// 0.36 / 0.27; on industrial_calibration's ChArUco set (no distortion model,
@@ -329,7 +312,7 @@ void IntrinsicsCheckAndSigma(Calibration* c) {
                               intrinsics_warnings.end());
     for (const auto& [k, found] : off)
       if (camera_covariance.covariance.count(k)) {
-        const bool model_fits = CameraRmsPx(*c, k) <= c->options.warn.max_camera_rms_px;
+        const bool model_fits = c->result.cameras[k].rms_px <= c->options.warn.max_camera_rms_px;
         (model_fits ? camera_covariance.from_intrinsics : camera_covariance.covariance)[k] +=
             found.moved * found.moved.transpose();
         camera_covariance.intrinsics_shift.erase(k);
@@ -376,9 +359,11 @@ CalibrationResult Calibrate(const Dataset& dataset, const CalibrationOptions& op
     internal::SolveClosedFormMethod(&c);
   internal::ExplainViews(&c);
   internal::FillResultStage(&c);
-  internal::IntrinsicsCheckAndSigma(&c);
+  // The residuals first (the intrinsics stage reads each camera's RMS); the
+  // intrinsics warnings still come before the quality warnings.
   const auto quality =
       internal::DiagnoseSolution(c.problem, c.est.T_cam_mount, c.est.Targets(), options, &c.result);
+  internal::IntrinsicsCheckAndSigma(&c);
   c.result.warnings.insert(c.result.warnings.end(), quality.begin(), quality.end());
   c.result.options = options;
   c.result.handeye_version = HANDEYE_VERSION;

@@ -29,6 +29,19 @@ SyntheticScene Scene(const std::string& cell, int poses, double robot_mm, double
   return scene;
 }
 
+// Each camera's given focal length 1 % and principal point 3 px off, the
+// sign alternating between cameras.
+void GiveIntrinsicsOff(Dataset* dataset) {
+  for (size_t k = 0; k < dataset->cameras.size(); ++k) {
+    const double sign = k % 2 == 0 ? 1.0 : -1.0;
+    auto& p = dataset->cameras[k].params;
+    p[0] *= 1.0 + 0.01 * sign;
+    p[1] *= 1.0 + 0.01 * sign;
+    p[2] += 3.0 * sign;
+    p[3] -= 3.0 * sign;
+  }
+}
+
 // Camera's position error (mm) and rotation error (deg) against the truth.
 std::pair<double, double> ErrorOf(const CameraResult& camera, const GroundTruth& truth) {
   const Eigen::Isometry3d& T = truth.T_cam.at(camera.name);
@@ -67,14 +80,7 @@ TEST_CASE("Given intrinsics 1 % and 3 px off: sigma covers the error they cause,
   int cameras = 0, beyond_3sigma_held = 0;
   for (std::uint64_t seed : {3, 4, 5}) {
     SyntheticScene scene = Scene("medium", 12, 0.0, 0.0, seed);
-    for (size_t k = 0; k < scene.dataset.cameras.size(); ++k) {
-      const double sign = k % 2 == 0 ? 1.0 : -1.0;
-      auto& p = scene.dataset.cameras[k].params;
-      p[0] *= 1.0 + 0.01 * sign;
-      p[1] *= 1.0 + 0.01 * sign;
-      p[2] += 3.0 * sign;
-      p[3] -= 3.0 * sign;
-    }
+    GiveIntrinsicsOff(&scene.dataset);
     CalibrationOptions held;
     held.intrinsics_sigma = GivenIntrinsicsSigma{0.0, 0.0};
     const CalibrationResult exact = Calibrate(scene.dataset, held);
@@ -137,14 +143,7 @@ TEST_CASE(
   // where the camera's residuals are above max_camera_rms_px, what the check
   // read as an offset may be a misfit of the model, and it stays the views' own.
   SyntheticScene scene = Scene("medium", 20, 0.0, 0.0, 3);
-  for (size_t k = 0; k < scene.dataset.cameras.size(); ++k) {
-    const double sign = k % 2 == 0 ? 1.0 : -1.0;
-    auto& p = scene.dataset.cameras[k].params;
-    p[0] *= 1.0 + 0.01 * sign;
-    p[1] *= 1.0 + 0.01 * sign;
-    p[2] += 3.0 * sign;
-    p[3] -= 3.0 * sign;
-  }
+  GiveIntrinsicsOff(&scene.dataset);
   const CalibrationResult fits = Calibrate(scene.dataset, CalibrationOptions{});
   CalibrationOptions strict;
   strict.warn.max_camera_rms_px = 1e-3;  // every camera's residuals above it
