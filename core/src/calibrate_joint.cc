@@ -176,7 +176,6 @@ Refinement RobustJointRounds(Calibration* c, Initialisation* init,
   if (*robot && c->options.robot_sigma_mm < 0)
     SettleRobotSigma(c->problem, *init, refined,
                      AtLossScale(c->options, refined.summary.cauchy_scale_px), &**robot);
-  if (*robot && c->options.robot_sigma_mm < 0 && c->options.check_setup) CheckRobotSigma(**robot);
   return refined;
 }
 
@@ -393,6 +392,13 @@ void SolveJointMethod(Calibration* c) {
   Initialisation init = InitialiseJointStage(c);
   std::optional<RobotPrior> robot;
   const Refinement refined = ModelChosenRounds(c, &init, &robot);
+  // A robot error beyond any real robot's is a setup mistake or a lens model
+  // the images do not follow, where the model that explains it is the one
+  // used; where the poses taken as exact predict the views better, the
+  // misfit is not the robot's (the industrial_calibration ChArUco set: a
+  // camera without its distortion model, whose estimated robot σ of 0.52°
+  // predicted held-out poses at 6.08 px against the exact robot's 2.87 px).
+  if (robot && c->options.robot_sigma_mm < 0 && c->options.check_setup) CheckRobotSigma(*robot);
   c->robot_model = robot;
   if (robot) NoteRobotModel(c, *robot);
   c->est.T_cam_mount = refined.T_cam_mount;

@@ -17,6 +17,14 @@ namespace handeye::internal {
 /// A setup mistake explains the views this many times better than the data
 /// as given (median view RMS through a closed-form chain) before it is named.
 constexpr double kMistakeRatio = 5.0;
+/// A repair the closed forms favour by this much, but not by kMistakeRatio,
+/// is scored again through chains refined from them (JudgeSetup), and named
+/// where it explains the views kRefinedMistakeRatio times better there. A
+/// refined chain leaves only the misfit: on rendered cameras whose
+/// distortion was left out, 1.1-1.4 px for correct records and 5.7-6.5 px
+/// for a target declared 10 % off in size (closed forms: 4-7 px and 12-21 px).
+constexpr double kRefineRatio = 1.25;
+constexpr double kRefinedMistakeRatio = 4.0;
 
 /// Views of a camera whose detected points are identical, point for point, to
 /// another view of the same camera: the same image under several robot poses
