@@ -30,7 +30,8 @@ struct AdviseArgs {
   int poses = 4;
   double goal_mm = 0;
   std::uint64_t seed = 1;
-  int candidates = 3000;
+  int candidates = 8000;
+  int threads = 0;
   bool quiet = false;
 };
 
@@ -93,6 +94,7 @@ void RunAdvise(const AdviseArgs& args) {
   options.goal_mm = args.goal_mm;
   options.seed = args.seed;
   options.candidates = args.candidates;
+  options.threads = args.threads;
   const Advice advice = Advise(cell, RecordedPoses(dataset, result), options);
   PrintAdvice(cell, advice, args);
   if (!args.output.empty() && !advice.next.poses.empty())
@@ -120,7 +122,7 @@ void RegisterAdvise(CLI::App& app) {
       ->check(IntegerIn(1, 1000, "between 1 and 1000 poses"));
   cmd->add_option("--goal-mm", args->goal_mm, "the position sigma each camera should reach (mm)")
       ->check(PositiveNumber("a positive goal in mm"));
-  AddCandidateOptions(cmd, &args->seed, &args->candidates);
+  AddCandidateOptions(cmd, &args->seed, &args->candidates, &args->threads);
   AddQuietFlag(cmd, &args->quiet);
   cmd->callback([args]() { RunAdvise(*args); });
 }

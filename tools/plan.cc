@@ -28,7 +28,8 @@ struct PlanArgs {
   bool poses_given = false;
   double goal_mm = 0;
   std::uint64_t seed = 1;
-  int candidates = 3000;
+  int candidates = 8000;
+  int threads = 0;
   std::string intrinsics_sigma;  // --intrinsics-sigma: the cell's, or the solve's default
   bool no_cross_terms = false;   // the σ of `calibrate --no-cross-terms`
 };
@@ -50,6 +51,7 @@ void RunPlan(const PlanArgs& args) {
   options.goal_mm = args.goal_mm;
   options.seed = args.seed;
   options.candidates = args.candidates;
+  options.threads = args.threads;
   std::string why;
   if (!options.Check(&why)) throw InputError("", "--poses/--goal-mm", "expected " + why);
   const CapturePlan plan = PlanCapture(cell, options);
@@ -81,7 +83,7 @@ void RegisterPlan(CLI::App& app) {
                   "or 0); default the cell's noise.intrinsics_sigma, else focal=1%,principal_point=3px");
   cmd->add_flag("--no-cross-terms", args->no_cross_terms,
                 "predict the sigma of calibrate --no-cross-terms (the same poses are chosen)");
-  AddCandidateOptions(cmd, &args->seed, &args->candidates);
+  AddCandidateOptions(cmd, &args->seed, &args->candidates, &args->threads);
   cmd->callback([args]() { RunPlan(*args); });
 }
 

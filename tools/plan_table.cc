@@ -21,11 +21,13 @@ void PrintPlanTable(const PlanCell& cell, const CapturePlan& plan) {
   }
 }
 
-void AddCandidateOptions(CLI::App* cmd, std::uint64_t* seed, int* candidates) {
+void AddCandidateOptions(CLI::App* cmd, std::uint64_t* seed, int* candidates, int* threads) {
   cmd->add_option("--seed", *seed, "seed of the candidate poses drawn in the region")
       ->check(UnsignedInteger("a whole number from 0 to 2^64 - 1"));
-  cmd->add_option("--candidates", *candidates, "candidate poses drawn in the region's box (default 3000)")
+  cmd->add_option("--candidates", *candidates, "candidate poses drawn in the region's box (default 8000)")
       ->check(IntegerIn(1, 1000000, "between 1 and 1000000 candidates"));
+  cmd->add_option("--threads", *threads, "threads the candidates are weighed on (0 = all cores)")
+      ->check(IntegerIn(0, 1024, "0 (all cores) to 1024 threads"));
 }
 
 }  // namespace handeye::tools

@@ -13,7 +13,8 @@ namespace handeye::tools {
 /// every camera's predicted position σ (mm) once it is recorded.
 void PrintPlanTable(const PlanCell& cell, const CapturePlan& plan);
 
-/// Adds `--seed` and `--candidates` (the candidate poses drawn in the region).
-void AddCandidateOptions(CLI::App* cmd, std::uint64_t* seed, int* candidates);
+/// Adds `--seed`, `--candidates` (the candidate poses drawn in the region)
+/// and `--threads` (those they are weighed on).
+void AddCandidateOptions(CLI::App* cmd, std::uint64_t* seed, int* candidates, int* threads);
 
 }  // namespace handeye::tools

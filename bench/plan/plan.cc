@@ -36,7 +36,7 @@ struct Settings {
   std::string source = "projected";
   double noise_px = 0.2;           // projected: detection noise σ per axis
   double robot_mm = 0.3, robot_deg = 0.03;
-  int sampler_poses = 30, planned_poses = 12, candidates = 3000;
+  int sampler_poses = 30, planned_poses = 12, candidates = 8000;
   bool given_robot_sigma = false;  // solve with the true robot σ instead of estimating it
   double rough_mm = 20, rough_deg = 1;  // the cell's rough poses: ± of cameras and target
   double uncertainty_margin = PlanOptions{}.uncertainty_margin;

@@ -7,9 +7,11 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <random>
 #include <sstream>
 
+#include "parallel.h"
 #include "plan_internal.h"
 
 namespace handeye {
@@ -24,9 +26,9 @@ using plan_internal::Model;
 /// views pin the intrinsics, not where the pose is better determined; chasing
 /// it planned worse captures (bench/plan, rough poses ± 100 mm / 10°: worst
 /// camera 0.67 / 1.43 / 1.15× the sampler's against 1.08 / 1.50 / 1.83×).
-double Objective(const std::vector<PredictedSigma>& sigma) {
+double Objective(const Model& model, const Eigen::MatrixXd& information) {
   double sum = 0;
-  for (const PredictedSigma& s : sigma) sum += std::pow(s.own_position_mm, 4);
+  for (double own_mm : plan_internal::OwnPositionMm(model, information)) sum += std::pow(own_mm, 4);
   return sum;
 }
 
@@ -150,50 +152,197 @@ bool PlanOptions::Check(std::string* why) const {
     if (why) *why = "between 0 and 1000000 candidates";
     return false;
   }
+  if (threads < 0) {
+    if (why) *why = "a thread count of 0 (all cores) or more";
+    return false;
+  }
   return true;
 }
+
+namespace {
+
+/// The choice so far: the candidates, which of them are taken and in what
+/// order, and the information they and the recorded poses give (the choice
+/// model's).
+struct Choice {
+  std::vector<Candidate> candidates;
+  std::vector<bool> taken;
+  std::vector<int> chosen;
+  Eigen::MatrixXd information;
+};
+
+/// The candidate that, added to `information`, gives the lowest objective,
+/// of those not taken (the first of equals); -1 when none gives a finite
+/// one. Evaluated on `threads` threads.
+int BestAddition(const Model& model, const Choice& choice, const Eigen::MatrixXd& information,
+                 int threads, double* objective) {
+  const std::vector<Candidate>& candidates = choice.candidates;
+  std::vector<double> objectives(candidates.size(), std::numeric_limits<double>::infinity());
+  internal::ParallelFor(candidates.size(), threads, [&](std::size_t c) {
+    if (!choice.taken[c]) objectives[c] = Objective(model, information + candidates[c].information);
+  });
+  const auto best = std::min_element(objectives.begin(), objectives.end());
+  if (best == objectives.end() || !std::isfinite(*best)) return -1;
+  *objective = *best;
+  return static_cast<int>(best - objectives.begin());
+}
+
+/// Takes the candidate that adds most (the greedy step); false when none can.
+bool AddBest(const Model& model, int threads, Choice* choice) {
+  double objective = 0;
+  const int best = BestAddition(model, *choice, choice->information, threads, &objective);
+  if (best < 0) return false;
+  choice->taken[best] = true;
+  choice->chosen.push_back(best);
+  choice->information += choice->candidates[best].information;
+  return true;
+}
+
+/// Passes of the exchange (Exchange); on bench/plan's cells the second
+/// rarely swaps more than one pose, the third none.
+constexpr int kExchangePasses = 3;
+
+/// Fedorov's exchange: each chosen pose in turn gives way to the candidate
+/// that does more beside the others, where one does (by 0.1 % of the
+/// objective). A pose chosen early for what it did then is not kept once the
+/// poses chosen after it do that too. On bench/plan's cells (12 seeds of 12
+/// poses, 3000 candidates) it made the worst camera 1.98 / 1.83× as good as
+/// 30 sampled poses on the medium / large cells, against 1.56 / 1.43× greedy.
+void Exchange(const Model& model, int threads, Choice* choice) {
+  double current = Objective(model, choice->information);
+  for (int pass = 0, swapped = 1; pass < kExchangePasses && swapped; ++pass) {
+    swapped = 0;
+    for (int& slot : choice->chosen) {
+      const Eigen::MatrixXd without = choice->information - choice->candidates[slot].information;
+      double objective = 0;
+      const int best = BestAddition(model, *choice, without, threads, &objective);
+      if (best < 0 || !(objective < current * (1 - 1e-3))) continue;
+      choice->taken[slot] = false;
+      choice->taken[best] = true;
+      slot = best;
+      choice->information = without + choice->candidates[best].information;
+      current = objective;
+      ++swapped;
+    }
+  }
+}
+
+/// Leaves out the chosen pose whose absence costs least (the reverse of AddBest).
+void DropLeast(const Model& model, Choice* choice) {
+  size_t least = 0;
+  double least_objective = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < choice->chosen.size(); ++i) {
+    const double objective = Objective(
+        model, choice->information - choice->candidates[choice->chosen[i]].information);
+    if (objective < least_objective) {
+      least_objective = objective;
+      least = i;
+    }
+  }
+  const int slot = choice->chosen[least];
+  choice->taken[slot] = false;
+  choice->information -= choice->candidates[slot].information;
+  choice->chosen.erase(choice->chosen.begin() + static_cast<long>(least));
+}
+
+/// The σ the solve will report (the forecast model's) after the recorded
+/// poses (`recorded_information`, prior included) and the first `count`
+/// chosen; each chosen pose's forecast information is worked out once.
+class Forecast {
+ public:
+  Forecast(const Model& model, Eigen::MatrixXd recorded_information)
+      : model_(model), recorded_(std::move(recorded_information)) {}
+  std::vector<PredictedSigma> After(const Choice& choice, size_t count) {
+    Eigen::MatrixXd information = recorded_;
+    for (size_t i = 0; i < count; ++i) information += Of(choice, choice.chosen[i]);
+    return plan_internal::SigmaOf(model_, information);
+  }
+  double Worst(const Choice& choice) {
+    const std::vector<PredictedSigma> sigma = After(choice, choice.chosen.size());
+    return sigma[handeye::Worst(sigma)].position_mm;
+  }
+
+ private:
+  const Eigen::MatrixXd& Of(const Choice& choice, int c) {
+    auto it = of_.find(c);
+    if (it == of_.end())
+      it = of_.emplace(c, plan_internal::PoseInformation(model_, choice.candidates[c].T_base_ee,
+                                                         choice.candidates[c].cameras))
+               .first;
+    return it->second;
+  }
+  const Model& model_;
+  Eigen::MatrixXd recorded_;
+  std::map<int, Eigen::MatrixXd> of_;
+};
+
+/// With a goal: the fewest poses whose worst σ reaches it. Greedy until it
+/// does, then the exchange where the goal still holds after it, then one
+/// pose fewer at a time (the least useful left out, the rest exchanged)
+/// while the goal holds.
+void ChooseForGoal(const Model& model, const PlanOptions& options, Forecast* forecast,
+                   Choice* choice) {
+  while (static_cast<int>(choice->chosen.size()) < options.poses &&
+         forecast->Worst(*choice) > options.goal_mm && AddBest(model, options.threads, choice)) {
+  }
+  if (forecast->Worst(*choice) > options.goal_mm) {
+    Exchange(model, options.threads, choice);  // out of reach: the best within the poses
+    return;
+  }
+  Choice exchanged = *choice;
+  Exchange(model, options.threads, &exchanged);
+  if (forecast->Worst(exchanged) <= options.goal_mm) *choice = exchanged;
+  while (choice->chosen.size() > 1) {
+    Choice fewer = *choice;
+    DropLeast(model, &fewer);
+    Exchange(model, options.threads, &fewer);
+    if (forecast->Worst(fewer) > options.goal_mm) break;
+    *choice = std::move(fewer);
+  }
+}
+
+}  // namespace
 
 CapturePlan PlanCapture(const PlanCell& cell, const PlanOptions& options, const std::vector<PlannedPose>& recorded) {
   Model model = plan_internal::MakeModel(cell);
   for (double& margin_px : model.uncertainty_margin_px) margin_px *= options.uncertainty_margin;
   // The poses are chosen by `model`; the σ the solve will report is `forecast`'s.
-  Model forecast = plan_internal::MakeModel(cell, plan_internal::ModelUse::kForecast);
-  Eigen::MatrixXd information = model.prior, forecast_information = forecast.prior;
+  Model forecast_model = plan_internal::MakeModel(cell, plan_internal::ModelUse::kForecast);
+  Choice choice;
+  choice.information = model.prior;
+  Eigen::MatrixXd forecast_information = forecast_model.prior;
   for (const PlannedPose& pose : recorded) {
-    information += plan_internal::PoseInformation(model, pose.T_base_ee, Indices(cell, pose.cameras));
+    choice.information +=
+        plan_internal::PoseInformation(model, pose.T_base_ee, Indices(cell, pose.cameras));
     forecast_information +=
-        plan_internal::PoseInformation(forecast, pose.T_base_ee, Indices(cell, pose.cameras));
+        plan_internal::PoseInformation(forecast_model, pose.T_base_ee, Indices(cell, pose.cameras));
   }
-  plan_internal::HoldRecorded(forecast_information, &forecast);
+  plan_internal::HoldRecorded(forecast_information, &forecast_model);
+  Forecast forecast(forecast_model, forecast_information);
   CapturePlan plan;
-  std::vector<Candidate> candidates = Candidates(model, options, &plan.failure);
-  plan.candidates = static_cast<int>(candidates.size());
-  std::vector<PredictedSigma> sigma = plan_internal::SigmaOf(forecast, forecast_information);
-  auto done = [&] { return options.goal_mm > 0 && sigma[Worst(sigma)].position_mm <= options.goal_mm; };
-  while (plan.failure.empty() && !candidates.empty() && static_cast<int>(plan.poses.size()) < options.poses && !done()) {
-    size_t best = 0;
-    double best_objective = std::numeric_limits<double>::infinity();
-    for (size_t c = 0; c < candidates.size(); ++c) {
-      const double objective =
-          Objective(plan_internal::SigmaOf(model, information + candidates[c].information));
-      if (objective < best_objective) {
-        best_objective = objective;
-        best = c;
-      }
+  choice.candidates = Candidates(model, options, &plan.failure);
+  choice.taken.assign(choice.candidates.size(), false);
+  plan.candidates = static_cast<int>(choice.candidates.size());
+  if (plan.failure.empty() && options.goal_mm > 0) {
+    ChooseForGoal(model, options, &forecast, &choice);
+  } else if (plan.failure.empty()) {
+    while (static_cast<int>(choice.chosen.size()) < options.poses &&
+           AddBest(model, options.threads, &choice)) {
     }
-    if (!std::isfinite(best_objective)) break;
-    information += candidates[best].information;
-    forecast_information += plan_internal::PoseInformation(forecast, candidates[best].T_base_ee,
-                                                           candidates[best].cameras);
-    sigma = plan_internal::SigmaOf(forecast, forecast_information);
+    Exchange(model, options.threads, &choice);
+  }
+  std::vector<PredictedSigma> sigma = forecast.After(choice, 0);
+  for (size_t i = 0; i < choice.chosen.size(); ++i) {
+    const Candidate& pose = choice.candidates[choice.chosen[i]];
+    sigma = forecast.After(choice, i + 1);
     char id[16];
-    std::snprintf(id, sizeof id, "%04d", static_cast<int>(recorded.size() + plan.poses.size()) + 1);
-    plan.poses.push_back({id, candidates[best].T_base_ee, Names(cell, candidates[best].cameras), ByName(cell, sigma)});
-    candidates.erase(candidates.begin() + static_cast<long>(best));
+    std::snprintf(id, sizeof id, "%04d", static_cast<int>(recorded.size() + i) + 1);
+    plan.poses.push_back({id, pose.T_base_ee, Names(cell, pose.cameras), ByName(cell, sigma)});
   }
   plan.worst_position_mm = sigma[Worst(sigma)].position_mm;
   plan.worst_camera = cell.cameras[Worst(sigma)].camera.name;
-  if (plan.failure.empty() && options.goal_mm > 0 && !done()) plan.failure = GoalFailure(cell, options, plan);
+  if (plan.failure.empty() && options.goal_mm > 0 && plan.worst_position_mm > options.goal_mm)
+    plan.failure = GoalFailure(cell, options, plan);
   return plan;
 }
 

@@ -233,6 +233,8 @@ Model MakeModel(const PlanCell& cell, ModelUse use) {
     model.given_offset.push_back(given ? model.size : -1);
     if (given) model.size += model.GivenCoordinates();
     model.T_cam_mount.push_back(ToPoseParams(camera.T_mount_cam.inverse()));
+    model.position_jacobian.push_back(
+        internal::UncertaintyJacobian(camera.T_mount_cam.inverse(), true).topRows<3>());
     // Where the rough pose's ± may move the image: its position over the
     // working distance and its turn, each in pixels at the focal length.
     const double f = std::max(camera.camera.fx(), camera.camera.fy());
@@ -344,29 +346,6 @@ Eigen::MatrixXd PoseInformation(const Model& model, const Eigen::Isometry3d& T_b
 }
 
 std::vector<PredictedSigma> SigmaOf(const Model& model, const Eigen::MatrixXd& information) {
-  // The σ the solve reports where the given intrinsics are right. It holds
-  // them (c) and reports for its estimate x the covariance A⁻¹ (A the
-  // views' information on x) plus G (δc δcᵀ + Σ_post) Gᵀ: G = A⁻¹ A_xc moves
-  // x with c's error, Σ_post is what is left of c's prior after the views, δc
-  // the error the views' own noise suggests (ConsiderCovariance). With c's
-  // errors unknowns under their prior, the inverse H⁻¹ of the information
-  // gives H⁻¹_xx = A⁻¹ + G Σ_post Gᵀ; over the noise E[δc δcᵀ] = Σ_post S Σ_post
-  // (S the views' information on c), i.e. H⁻¹_xc S H⁻¹_cx, S = (H⁻¹_cc)⁻¹ − P.
-  // (Without that term the medium cells of bench/plan predicted 0.69 of the σ
-  // reported (median); with c's error under the whole prior, A⁻¹ + G Σ_prior
-  // Gᵀ, 1.5-6 times, and the plans made for it were worse.)
-  // The shift G δc is one draw of the noise, its square skewed like a χ² of
-  // few degrees of freedom: the σ forecast is the median of the σ reported,
-  // with the shift's square at its median (MedianSquaredNorm), not its mean
-  // (bench/plan, 4-6 cameras, 6 seeds: forecast over reported, median 1.37 /
-  // 1.50 / 1.67 on small / medium / large cells with the mean, 1.24 / 1.32 /
-  // 1.45 with the median; 1.09 / 1.24 / 1.22 once the rough poses add no
-  // information, and 0.83 / 1.06 / 1.06 once it holds the solve's
-  // camera-to-camera terms as well, Model::pair_offset. What is left is
-  // mostly single draws: the shift the views suggest 10-30 times the views'
-  // own σ in a few solves, and views the simulator gives that the plan does
-  // not count on).
-  // own_position_mm has no shift: the σ of the views alone.
   const size_t cameras = model.camera_offset.size();
   std::vector<PredictedSigma> out(
       cameras, {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
@@ -427,6 +406,34 @@ std::vector<PredictedSigma> SigmaOf(const Model& model, const Eigen::MatrixXd& i
                   MedianSquaredNorm(shift.covariance.bottomRightCorner<3, 3>()));
     out[k] = {position_mm, rotation_deg, uncertainty(own).position_mm};
   }
+  return out;
+}
+
+std::vector<double> OwnPositionMm(const Model& model, const Eigen::MatrixXd& information) {
+  // A⁻¹ = H⁻¹_xx − H⁻¹_xc (H⁻¹_cc)⁻¹ H⁻¹_cx (SigmaOf) is the inverse of the
+  // information R with c's rows and columns left out, and the trace of the
+  // position's covariance J A⁻¹_k Jᵀ is |L⁻¹ E_k Jᵀ|² for R = L Lᵀ.
+  const size_t cameras = model.camera_offset.size();
+  std::vector<double> out(cameras, std::numeric_limits<double>::infinity());
+  std::vector<bool> given(model.size, false);
+  for (int i : GivenCoordinatesOf(model)) given[i] = true;
+  std::vector<int> kept, at(model.size, -1);
+  for (int i = 0; i < model.size; ++i)
+    if (!given[i]) {
+      at[i] = static_cast<int>(kept.size());
+      kept.push_back(i);
+    }
+  const int n = static_cast<int>(kept.size());
+  Eigen::MatrixXd reduced(n, n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) reduced(i, j) = information(kept[i], kept[j]);
+  const Eigen::LLT<Eigen::MatrixXd> llt(reduced);
+  if (llt.info() != Eigen::Success) return out;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 3 * static_cast<Eigen::Index>(cameras));
+  for (size_t k = 0; k < cameras; ++k)
+    rhs.block(at[model.camera_offset[k]], 3 * k, 6, 3) = model.position_jacobian[k].transpose();
+  llt.matrixL().solveInPlace(rhs);
+  for (size_t k = 0; k < cameras; ++k) out[k] = rhs.middleCols(3 * k, 3).norm();
   return out;
 }
 

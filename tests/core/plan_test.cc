@@ -179,23 +179,21 @@ TEST_CASE("With a goal the plan has the fewest poses that reach it, or says it i
   const SyntheticScene scene = MediumScene(1);
   const PlanCell cell = PlanCellOfScene(scene, RoughKnowledge{});
   PlanOptions options;
-  options.poses = 10;
+  options.poses = 7;
   options.candidates = 800;
-  const CapturePlan ten = PlanCapture(cell, options);
-  REQUIRE(ten.failure.empty());
-  auto worst_after = [&](size_t n) {
-    double worst = 0;
-    for (const auto& [name, sigma] : ten.poses[n - 1].sigma_after)
-      worst = std::max(worst, sigma.position_mm);
-    return worst;
-  };
-  options.goal_mm = worst_after(7);
+  const CapturePlan seven = PlanCapture(cell, options);
+  REQUIRE(seven.failure.empty());
+  options.goal_mm = seven.worst_position_mm;
   options.poses = 60;
   const CapturePlan goal = PlanCapture(cell, options);
   CHECK(goal.failure.empty());
-  CHECK(goal.poses.size() == 7);
+  CHECK(goal.poses.size() <= 7);
   CHECK(goal.worst_position_mm <= options.goal_mm);
-  CHECK(worst_after(6) > options.goal_mm);
+  // One pose fewer, planned as such, does not reach it.
+  PlanOptions fewer;
+  fewer.poses = static_cast<int>(goal.poses.size()) - 1;
+  fewer.candidates = 800;
+  CHECK(PlanCapture(cell, fewer).worst_position_mm > options.goal_mm);
 
   options.goal_mm = 1e-4;
   options.poses = 5;
@@ -242,12 +240,15 @@ TEST_CASE("Advice after a capture that left a camera at 4 views goes to that cam
   const Advice advice = Advise(cell, recorded, options);
   REQUIRE(advice.next.poses.size() == 4);
   CHECK(advice.above_goal.size() == scene.dataset.cameras.size());
-  // cam0 is the worst camera now; every proposal is seen by it, and the four
-  // halve its σ (the given intrinsics' part included).
+  // cam0 is the worst camera now; the proposals go to it (one may go where
+  // the exchange finds it does more for the others beside them), and the
+  // four halve its σ (the given intrinsics' part included).
   for (const auto& [name, sigma] : advice.now)
     if (name != "cam0") CHECK(sigma.position_mm < advice.now.at("cam0").position_mm);
+  int with_cam0 = 0;
   for (const PlannedPose& pose : advice.next.poses)
-    CHECK(std::find(pose.cameras.begin(), pose.cameras.end(), "cam0") != pose.cameras.end());
+    with_cam0 += std::count(pose.cameras.begin(), pose.cameras.end(), "cam0");
+  CHECK(with_cam0 >= 3);
   const double after = advice.next.poses.back().sigma_after.at("cam0").position_mm;
   CHECK(after < 0.5 * advice.now.at("cam0").position_mm);
   for (const PlannedPose& pose : advice.next.poses) CHECK(InRegion(cell.region, pose.T_base_ee));

@@ -134,7 +134,11 @@ struct PlanOptions {
   int poses = 12;           ///< how many poses (the most, with goal_mm)
   double goal_mm = 0;       ///< > 0: stop at the fewest poses whose worst σ is within it
   std::uint64_t seed = 1;   ///< candidate sampling
-  int candidates = 3000;    ///< candidates drawn in the box
+  /// Candidates drawn in the box. On bench/plan's cells (12 seeds) 8000
+  /// made the worst camera of 12 planned poses 1.41 / 2.02 / 2.13× as good
+  /// as 30 sampled poses (small / medium / large), 3000 1.15 / 1.98 / 1.83×.
+  int candidates = 8000;
+  int threads = 0;          ///< threads the candidates are weighed on (0 = all cores)
   /// The share of the rough poses' ± (PlanCamera::position_sigma_m,
   /// rotation_sigma_rad, the target's) kept free around the target in the
   /// image, beyond constraints.margin_px: 1 keeps the whole ±, 0 plans on the
