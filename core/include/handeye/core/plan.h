@@ -167,6 +167,7 @@ struct CapturePlan {
 };
 
 /// Chooses poses greedily by the information they add (see the file comment),
+/// then exchanges each for a candidate that adds more beside the others,
 /// each in the region, within the tilt limits and seen by at least one camera
 /// under the constraints (with the rough poses' ± as extra margin).
 /// `recorded`: poses already captured with the cameras that saw the target
