@@ -153,6 +153,58 @@ Eigen::MatrixXd PositivePart(const Eigen::MatrixXd& m) {
          eigen.eigenvectors().transpose();
 }
 
+/// One camera's view at a robot pose, differentiated: its residuals'
+/// Jacobian with respect to the unknowns' tangent (J_u) and to the robot
+/// pose's (J_r), in units of the cell's detection σ. False when the camera
+/// sees none of the target's points there.
+bool ViewJacobians(const Model& model, int k, const PoseParams& T_mount_holder,
+                   Eigen::MatrixXd* J_u, Eigen::MatrixXd* J_r) {
+  const PlanCell& cell = *model.cell;
+  const Camera& camera = cell.cameras[k].camera;
+  auto points = std::make_shared<ViewPoints>();
+  const Eigen::Isometry3d T_cam_target = FromPoseParams(model.T_cam_mount[k].data()) *
+                                         FromPoseParams(T_mount_holder.data()) *
+                                         cell.T_holder_target;
+  for (const TargetPoint& p : cell.target->Points()) {
+    const auto uv = camera.Project(T_cam_target * p.p_target);
+    if (!uv) continue;
+    points->p_target.push_back(p.p_target);
+    points->observed_px.push_back(*uv);
+  }
+  if (points->p_target.empty()) return false;
+  const bool refined = model.intrinsics_offset[k] >= 0, given = model.given_offset[k] >= 0;
+  const bool free = refined || given;  // the intrinsics' Jacobian is wanted
+  std::unique_ptr<ceres::CostFunction> cost(
+      ViewReprojectionWithRobotError::Create(camera, points, 0.0, free));
+  const int rows = cost->num_residuals();
+  std::vector<DynamicRowMajor> J(free ? 4 : 3);
+  for (size_t b = 0; b < J.size(); ++b) J[b].resize(rows, cost->parameter_block_sizes()[b]);
+  const double* parameters[4] = {model.T_cam_mount[k].data(), T_mount_holder.data(),
+                                 model.T_holder_target.data(), camera.params.data()};
+  double* jacobians[4] = {J[0].data(), J[1].data(), J[2].data(), free ? J[3].data() : nullptr};
+  Eigen::VectorXd residuals(rows);
+  if (!cost->Evaluate(parameters, residuals.data(), jacobians)) return false;
+  *J_u = Eigen::MatrixXd::Zero(rows, model.size);
+  J_u->middleCols(model.camera_offset[k], 6) = J[0] * PlusJacobian(model.T_cam_mount[k]);
+  J_u->middleCols(model.target_offset, 6) = J[2] * PlusJacobian(model.T_holder_target);
+  if (refined)
+    J_u->middleCols(model.intrinsics_offset[k], kIntrinsicsUnknowns) =
+        J[3].leftCols(kIntrinsicsUnknowns);
+  if (given) {
+    int at = model.given_offset[k];
+    if (model.given_focal)  // fx, fy → fx (1 + e), fy (1 + e)
+      J_u->col(at++) = J[3].col(0) * camera.params[0] + J[3].col(1) * camera.params[1];
+    if (model.given_principal_point) J_u->middleCols(at, 2) = J[3].middleCols(2, 2);
+  }
+  // A camera with its own detection noise weighs as the solve weighs it
+  // (CameraWeights): its rows in units of the cell's σ.
+  const double own_sigma = cell.cameras[k].pixel_sigma_px;
+  const double weight = own_sigma > 0 ? cell.pixel_sigma_px / own_sigma : 1.0;
+  *J_u *= weight;
+  *J_r = J[1] * PlusJacobian(T_mount_holder) * weight;
+  return true;
+}
+
 }  // namespace
 
 void HoldRecorded(const Eigen::MatrixXd& information, Model* model) {
@@ -255,62 +307,6 @@ Model MakeModel(const PlanCell& cell, ModelUse use) {
   AddPrior(cell, use, &model);
   return model;
 }
-
-namespace {
-
-/// One camera's view at a robot pose, differentiated: its residuals'
-/// Jacobian with respect to the unknowns' tangent (J_u) and to the robot
-/// pose's (J_r), in units of the cell's detection σ. False when the camera
-/// sees none of the target's points there.
-bool ViewJacobians(const Model& model, int k, const PoseParams& T_mount_holder,
-                   Eigen::MatrixXd* J_u, Eigen::MatrixXd* J_r) {
-  const PlanCell& cell = *model.cell;
-  const Camera& camera = cell.cameras[k].camera;
-  auto points = std::make_shared<ViewPoints>();
-  const Eigen::Isometry3d T_cam_target = FromPoseParams(model.T_cam_mount[k].data()) *
-                                         FromPoseParams(T_mount_holder.data()) *
-                                         cell.T_holder_target;
-  for (const TargetPoint& p : cell.target->Points()) {
-    const auto uv = camera.Project(T_cam_target * p.p_target);
-    if (!uv) continue;
-    points->p_target.push_back(p.p_target);
-    points->observed_px.push_back(*uv);
-  }
-  if (points->p_target.empty()) return false;
-  const bool refined = model.intrinsics_offset[k] >= 0, given = model.given_offset[k] >= 0;
-  const bool free = refined || given;  // the intrinsics' Jacobian is wanted
-  std::unique_ptr<ceres::CostFunction> cost(
-      ViewReprojectionWithRobotError::Create(camera, points, 0.0, free));
-  const int rows = cost->num_residuals();
-  std::vector<DynamicRowMajor> J(free ? 4 : 3);
-  for (size_t b = 0; b < J.size(); ++b) J[b].resize(rows, cost->parameter_block_sizes()[b]);
-  const double* parameters[4] = {model.T_cam_mount[k].data(), T_mount_holder.data(),
-                                 model.T_holder_target.data(), camera.params.data()};
-  double* jacobians[4] = {J[0].data(), J[1].data(), J[2].data(), free ? J[3].data() : nullptr};
-  Eigen::VectorXd residuals(rows);
-  if (!cost->Evaluate(parameters, residuals.data(), jacobians)) return false;
-  *J_u = Eigen::MatrixXd::Zero(rows, model.size);
-  J_u->middleCols(model.camera_offset[k], 6) = J[0] * PlusJacobian(model.T_cam_mount[k]);
-  J_u->middleCols(model.target_offset, 6) = J[2] * PlusJacobian(model.T_holder_target);
-  if (refined)
-    J_u->middleCols(model.intrinsics_offset[k], kIntrinsicsUnknowns) =
-        J[3].leftCols(kIntrinsicsUnknowns);
-  if (given) {
-    int at = model.given_offset[k];
-    if (model.given_focal)  // fx, fy → fx (1 + e), fy (1 + e)
-      J_u->col(at++) = J[3].col(0) * camera.params[0] + J[3].col(1) * camera.params[1];
-    if (model.given_principal_point) J_u->middleCols(at, 2) = J[3].middleCols(2, 2);
-  }
-  // A camera with its own detection noise weighs as the solve weighs it
-  // (CameraWeights): its rows in units of the cell's σ.
-  const double own_sigma = cell.cameras[k].pixel_sigma_px;
-  const double weight = own_sigma > 0 ? cell.pixel_sigma_px / own_sigma : 1.0;
-  *J_u *= weight;
-  *J_r = J[1] * PlusJacobian(T_mount_holder) * weight;
-  return true;
-}
-
-}  // namespace
 
 Eigen::MatrixXd PoseInformation(const Model& model, const Eigen::Isometry3d& T_base_ee,
                                 const std::vector<int>& cameras) {
