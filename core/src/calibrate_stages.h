@@ -80,6 +80,9 @@ struct Calibration {
   /// that choice holds the robot poses exact (RobotForRound reads it).
   std::optional<ModelChoice> model_choice;
   bool exact_robot = false;
+  /// Where the views suggested the robot's error but the exact robot was
+  /// taken: that model, whose σ the solution's covariance carries.
+  std::optional<RobotPrior> considered_robot;
   std::map<size_t, IntrinsicsResult> refined_intrinsics;
   CameraCovariance camera_covariance;
   std::vector<CameraResult::CrossValidation> camera_validation;

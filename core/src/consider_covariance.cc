@@ -15,6 +15,17 @@ ConsiderCovariance::ConsiderCovariance(std::vector<Coordinates> consider, Eigen:
                                        Eigen::MatrixXd prior_information)
     : consider_(std::move(consider)), sigma_(std::move(sigma)), prior_information_(std::move(prior_information)) {
   for (const Coordinates& c : consider_) num_consider_ += static_cast<int>(c.tangent.size());
+  num_posterior_ = num_consider_;
+  posterior_blocks_ = consider_.size();
+}
+
+void ConsiderCovariance::HoldIndependent(const std::vector<Coordinates>& independent,
+                                         Eigen::MatrixXd independent_sigma) {
+  for (const Coordinates& c : independent) {
+    consider_.push_back(c);
+    num_consider_ += static_cast<int>(c.tangent.size());
+  }
+  independent_sigma_ = std::move(independent_sigma);
 }
 
 bool ConsiderCovariance::Compute(const std::vector<std::pair<const double*, const double*>>& pairs,
@@ -51,17 +62,19 @@ bool ConsiderCovariance::Compute(const std::vector<std::pair<const double*, cons
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(H_cc);
   if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all()) return false;
   inverse_cc_ = ldlt.solve(Eigen::MatrixXd::Identity(num_consider_, num_consider_));
-  // g_c: the cost's gradient in the consider blocks' tangent spaces.
+  // g_c: the cost's gradient in the given intrinsics' tangent spaces.
+  gradient_.resize(num_posterior_);
+  if (num_posterior_ == 0) return true;
   ceres::Problem::EvaluateOptions evaluate;
-  for (const Coordinates& c : consider_) evaluate.parameter_blocks.push_back(const_cast<double*>(c.block));
+  for (size_t b = 0; b < posterior_blocks_; ++b)
+    evaluate.parameter_blocks.push_back(const_cast<double*>(consider_[b].block));
   std::vector<double> gradient;
   double cost = 0;
   if (!problem->Evaluate(evaluate, &cost, nullptr, &gradient, nullptr)) return false;
-  gradient_.resize(num_consider_);
   int at = 0, offset = 0;
-  for (const Coordinates& c : consider_) {
-    for (int i : c.tangent) gradient_[at++] = gradient[offset + i];
-    offset += problem->ParameterBlockTangentSize(c.block);
+  for (size_t b = 0; b < posterior_blocks_; ++b) {
+    for (int i : consider_[b].tangent) gradient_[at++] = gradient[offset + i];
+    offset += problem->ParameterBlockTangentSize(consider_[b].block);
   }
   return true;
 }
@@ -69,8 +82,11 @@ bool ConsiderCovariance::Compute(const std::vector<std::pair<const double*, cons
 Eigen::MatrixXd ConsiderCovariance::Posterior(double variance_factor) const {
   // (Σ⁻¹ + S/σ²)⁻¹ = (I + Σ S/σ²)⁻¹ Σ: no inverse of Σ (the focal length's is
   // singular: one error for fx and fy) nor of S (views may not inform c).
-  const Eigen::MatrixXd S = inverse_cc_ - prior_information_;
-  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(num_consider_, num_consider_);
+  // S of the given intrinsics with the independent inputs held: the
+  // top-left block of (H⁻¹_cc)⁻¹.
+  const Eigen::MatrixXd S =
+      inverse_cc_.topLeftCorner(num_posterior_, num_posterior_) - prior_information_;
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(num_posterior_, num_posterior_);
   const Eigen::MatrixXd posterior = (I + sigma_ * S / variance_factor).lu().solve(sigma_);
   return 0.5 * (posterior + posterior.transpose());
 }
@@ -95,18 +111,30 @@ Eigen::MatrixXd ConsiderCovariance::Block(const double* a, const double* b) cons
   return Raw(a, b) - AgainstConsider(a) * inverse_cc_ * AgainstConsider(b).transpose();
 }
 
+Eigen::MatrixXd ConsiderCovariance::Sensitivity(const double* a) const {
+  return -AgainstConsider(a) * inverse_cc_;
+}
+
 Eigen::MatrixXd ConsiderCovariance::Consider(const double* a, double variance_factor) const {
   const int n = problem_->ParameterBlockTangentSize(a);
-  if (num_consider_ == 0) return Eigen::MatrixXd::Zero(n, n);
-  const Eigen::MatrixXd G = -AgainstConsider(a) * inverse_cc_;
+  if (num_posterior_ == 0) return Eigen::MatrixXd::Zero(n, n);
+  const Eigen::MatrixXd G = Sensitivity(a).leftCols(num_posterior_);
   return G * Posterior(variance_factor) * G.transpose();
+}
+
+Eigen::MatrixXd ConsiderCovariance::Independent(const double* a, const double* b) const {
+  const int independent = num_consider_ - num_posterior_;
+  if (independent == 0)
+    return Eigen::MatrixXd::Zero(problem_->ParameterBlockTangentSize(a),
+                                 problem_->ParameterBlockTangentSize(b));
+  return Sensitivity(a).rightCols(independent) * independent_sigma_ *
+         Sensitivity(b).rightCols(independent).transpose();
 }
 
 Eigen::VectorXd ConsiderCovariance::Shift(const double* a, double variance_factor) const {
   const int n = problem_->ParameterBlockTangentSize(a);
-  if (num_consider_ == 0) return Eigen::VectorXd::Zero(n);
-  const Eigen::MatrixXd G = -AgainstConsider(a) * inverse_cc_;
-  return G * DeltaC(variance_factor);
+  if (num_posterior_ == 0) return Eigen::VectorXd::Zero(n);
+  return Sensitivity(a).leftCols(num_posterior_) * DeltaC(variance_factor);
 }
 
 Eigen::VectorXd ConsiderCovariance::DeltaC(double variance_factor) const {
@@ -117,12 +145,12 @@ Eigen::VectorXd ConsiderCovariance::Suggested(const double* a, double variance_f
   const int ambient = problem_->ParameterBlockSize(a),
             tangent = problem_->ParameterBlockTangentSize(a);
   Eigen::VectorXd step = Eigen::VectorXd::Zero(tangent);
-  if (num_consider_ > 0) {
+  if (num_posterior_ > 0) {
     const Eigen::VectorXd delta_c = DeltaC(variance_factor);
     int at = 0;
-    for (const Coordinates& c : consider_)
-      for (int i : c.tangent) {
-        if (c.block == a) step[i] = delta_c[at];
+    for (size_t b = 0; b < posterior_blocks_; ++b)
+      for (int i : consider_[b].tangent) {
+        if (consider_[b].block == a) step[i] = delta_c[at];
         ++at;
       }
   }
@@ -136,8 +164,8 @@ Eigen::VectorXd ConsiderCovariance::Suggested(const double* a, double variance_f
 }
 
 std::vector<int> ConsiderCovariance::Held(const double* block) const {
-  for (const Coordinates& c : consider_)
-    if (c.block == block) return c.tangent;
+  for (size_t b = 0; b < posterior_blocks_; ++b)
+    if (consider_[b].block == block) return consider_[b].tangent;
   return {};
 }
 

@@ -41,6 +41,13 @@ namespace handeye::internal {
 ///   G = −H⁻¹_xc (H⁻¹_cc)⁻¹,  S = (H⁻¹_cc)⁻¹ − P,
 ///   A_xx⁻¹ = H⁻¹_xx − H⁻¹_xc (H⁻¹_cc)⁻¹ H⁻¹_cx,
 /// and δc = −Σ_post g_c / σ² from the cost's gradient g_c at the solution.
+///
+/// Inputs of a second kind, each record's own (the robot poses, held as
+/// reported where held-out poses chose the exact robot), are held too and
+/// add G_r Σ_r G_rᵀ at the σ Σ_r they are given (Independent), not a
+/// posterior: each pose's error is seen by its few views only, so its
+/// posterior mean would be those views' noise, and Σ_r is already what the
+/// views together say of the robot (the modelled solve's estimate).
 class ConsiderCovariance {
  public:
   /// Consider coordinates of one parameter block: indices into its tangent space.
@@ -54,6 +61,10 @@ class ConsiderCovariance {
   /// prior's); `prior_information`: P, the information the problem's prior
   /// residual blocks give them (in the problem's units).
   ConsiderCovariance(std::vector<Coordinates> consider, Eigen::MatrixXd sigma, Eigen::MatrixXd prior_information);
+  /// Holds `independent` coordinates too (of blocks under a prior of any
+  /// weight), their error of covariance `independent_sigma` (stacked in that
+  /// order); before Compute.
+  void HoldIndependent(const std::vector<Coordinates>& independent, Eigen::MatrixXd independent_sigma);
 
   /// Computes the blocks of `pairs` (and what the consider coordinates need);
   /// false when the information is rank deficient.
@@ -65,6 +76,9 @@ class ConsiderCovariance {
   /// G Σ_post Gᵀ of block a (tangent space): what the held inputs' error
   /// adds, for residuals of variance `variance_factor` per unit.
   Eigen::MatrixXd Consider(const double* a, double variance_factor) const;
+  /// G_r Σ_r G_rᵀ of blocks a against b (tangent space): what the
+  /// independent inputs' error adds (0 without them).
+  Eigen::MatrixXd Independent(const double* a, const double* b) const;
   /// G δc of block a (tangent space): the held estimate less where it would
   /// be with the inputs at what prior and views together say (−G δc is that
   /// move; only its outer product enters σ).
@@ -80,6 +94,9 @@ class ConsiderCovariance {
   Eigen::MatrixXd Raw(const double* a, const double* b) const;
   /// H⁻¹_ac: the block's rows against every consider coordinate.
   Eigen::MatrixXd AgainstConsider(const double* a) const;
+  /// G = −H⁻¹_ac (H⁻¹_cc)⁻¹: how the estimate of block a moves with each
+  /// held coordinate (the given intrinsics' first, then the independent ones).
+  Eigen::MatrixXd Sensitivity(const double* a) const;
 
   std::vector<Coordinates> consider_;
   /// Σ_post for residuals of variance `variance_factor`.
@@ -88,8 +105,11 @@ class ConsiderCovariance {
   Eigen::VectorXd DeltaC(double variance_factor) const;
 
   Eigen::MatrixXd sigma_, prior_information_;
+  Eigen::MatrixXd independent_sigma_;  // Σ_r
   Eigen::VectorXd gradient_;  // g_c
-  int num_consider_ = 0;
+  int num_consider_ = 0;       // every held coordinate
+  int num_posterior_ = 0;      // of those, the given intrinsics' (the first)
+  size_t posterior_blocks_ = 0;  // consider_'s entries of the given intrinsics
   ceres::Problem* problem_ = nullptr;
   std::unique_ptr<BlockCovariance> covariance_;
   Eigen::MatrixXd inverse_cc_;  // (H⁻¹_cc)⁻¹

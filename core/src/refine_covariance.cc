@@ -265,7 +265,8 @@ void ClearCovariance(size_t cameras, size_t intrinsics, Refinement* out) {
 /// scale) and by the view design factor (an error the points of a view share,
 /// e.g. a robot pose error not modelled, counts once per view, not per point);
 /// with robot pose blocks whose settled σ differs from their prior's, the
-/// sandwich of SandwichWeights; and no smaller than the robot poses' own
+/// sandwich of SandwichWeights; with robot poses held as reported, what
+/// their error adds; and no smaller than the robot poses' own
 /// scatter (Scatter). Fills `out`; leaves it empty when the Jacobian is
 /// rank deficient.
 void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_cam_mount,
@@ -289,11 +290,13 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
       sandwich ? SandwichWeights(*problem, robot_poses, *robot)
                : std::vector<Eigen::Matrix<double, 6, 6>>{};
   auto tangent_block = [&](const double* a, const double* b) { return covariance->Block(a, b); };
-  // The solve's own covariance (for residuals of the variance seen).
+  // The solve's own covariance (for residuals of the variance seen), and
+  // what the robot poses' error adds where they are held as reported
+  // (ConsiderCovariance::Independent, in the parameters' units).
   auto solve_covariance = [&](const double* a, const double* b) {
     Eigen::MatrixXd C = tangent_block(a, b);
     if (sandwich) C -= SandwichCorrection(robot_poses, M, tangent_block, a, b);
-    return Eigen::MatrixXd(C * variance_factor);
+    return Eigen::MatrixXd(C * variance_factor + covariance->Independent(a, b));
   };
   // Widened to the poses' scatter: the scale on each side of D C D.
   auto widening = [&](const double* block, const Eigen::Matrix<double, 6, 6>& C) {

@@ -35,6 +35,8 @@ struct JointBuild {
   const CalibrationOptions& options;
   const std::optional<RobotPrior>& robot;
   ChainProblem& chain;
+  /// The robot pose blocks stay at the reported poses (JointStep::kCovarianceRobotHeld).
+  bool robot_held = false;
   double* T_holder_target = nullptr;
   std::vector<double*> T_cam_mount, K, T_mount_holder;
   std::map<std::pair<int, int>, double*> pairs;  // (k, t) -> T_camk_mount_via_t
@@ -74,7 +76,7 @@ void AddIntrinsics(JointBuild* b, JointStep step) {
     const std::vector<int> free =
         k < b->init.free_intrinsics.size() ? b->init.free_intrinsics[k] : std::vector<int>{};
     const UncertainIntrinsics uncertain =
-        step == JointStep::kCovariance
+        step != JointStep::kSolve
             ? UncertainGivenIntrinsics(dataset.cameras[k], free, b->options.intrinsics_sigma)
             : UncertainIntrinsics{};
     std::vector<int> uncertain_tangent;
@@ -101,7 +103,8 @@ double* RobotPoseBlockOf(JointBuild* b, int j) {
   if (b->T_mount_holder[j]) return b->T_mount_holder[j];
   const Initialisation& init = b->init;
   ceres::ResidualBlockId prior;
-  const bool started = j < static_cast<int>(init.T_mount_holder.size()) && init.T_mount_holder[j];
+  const bool started =
+      !b->robot_held && j < static_cast<int>(init.T_mount_holder.size()) && init.T_mount_holder[j];
   b->T_mount_holder[j] = b->chain.AddRobotPose(
       started ? *init.T_mount_holder[j] : b->problem.T_mount_holder[j],
       b->problem.dataset->poses[j], b->problem.dataset->setup, *b->robot, &prior);
@@ -224,6 +227,27 @@ ceres::Solver::Options JointSolverOptions(const JointBuild& b) {
   return solver;
 }
 
+/// Each robot pose block's tangent coordinates and the covariance its prior
+/// stands for: the prior's residuals are its σ-scaled errors times the
+/// detection σ (RobotPosePrior), so with J their Jacobian in the block's
+/// tangent space the error's covariance there is σ_px² (JᵀJ)⁻¹.
+void HoldRobotPoses(const JointBuild& b, ConsiderCovariance* covariance) {
+  std::vector<ConsiderCovariance::Coordinates> coordinates;
+  std::vector<Eigen::MatrixXd> sigmas;
+  for (const RobotPoseBlock& pose : b.robot_poses) {
+    Eigen::Matrix<double, 6, 6, Eigen::RowMajor> J;
+    double* jacobians[] = {J.data()};
+    double cost;
+    Eigen::Matrix<double, 6, 1> residuals;
+    b.chain.problem().EvaluateResidualBlock(pose.prior, false, &cost, residuals.data(), jacobians);
+    const double pixel_sigma = b.robot->pixel_sigma_px;
+    coordinates.push_back({pose.pose, {0, 1, 2, 3, 4, 5}});
+    sigmas.push_back(pixel_sigma * pixel_sigma *
+                     (J.transpose() * J).inverse());
+  }
+  covariance->HoldIndependent(coordinates, BlockDiagonal(sigmas));
+}
+
 /// The blocks' values into `out`: T_holder_target, the cameras, the pairs
 /// (T_camk_camt = T_camk_mount_via_t · T_mount_camt), the intrinsics and the
 /// robot poses.
@@ -256,6 +280,7 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
   ChainProblem chain(1 + n_cameras + problem.dataset->poses.size() + n_cameras * n_cameras,
                      n_cameras);
   JointBuild b(problem, init, options, robot, chain);
+  b.robot_held = step == JointStep::kCovarianceRobotHeld && robot;
   AddPoses(&b);
   AddIntrinsics(&b, step);
   AddViews(&b);
@@ -263,11 +288,13 @@ Refinement RefineJoint(const Problem& problem, const Initialisation& init,
   if (step == JointStep::kSolve)
     out.summary = Solve(JointSolverOptions(b), options, &chain.problem());
   ReadSolution(b, &out);
-  if (step == JointStep::kCovariance) {
+  if (step != JointStep::kSolve) {
     ConsiderCovariance covariance(b.uncertain_coordinates, BlockDiagonal(b.uncertain_covariances),
                                   BlockDiagonal(b.uncertain_prior_information));
+    if (b.robot_held) HoldRobotPoses(b, &covariance);
     SolutionCovariance(&chain.problem(), b.T_cam_mount, b.T_holder_target, b.K, b.direct, b.at_pose,
-                       robot, b.robot_poses, &covariance, options.threads, &out);
+                       b.robot_held ? std::nullopt : robot, b.robot_poses, &covariance,
+                       options.threads, &out);
   }
   return out;
 }

@@ -54,8 +54,10 @@ struct Refinement {
 void WarmStart(const Refinement& solved, Initialisation* init);
 
 /// What RefineJoint does with the problem it builds: solve it, or only
-/// compute the covariance of the given values (the solution).
-enum class JointStep { kSolve, kCovariance };
+/// compute the covariance of the given values (the solution); with
+/// kCovarianceRobotHeld, of a solution that took the robot poses as exact,
+/// their error at `robot`'s σ an uncertain input (ConsiderCovariance::HoldIndependent).
+enum class JointStep { kSolve, kCovariance, kCovarianceRobotHeld };
 
 /// The paper's joint solve: shared T_holder_target, optional c_cross terms; with `robot`,
 /// every robot pose is a block of the solve too, under its prior.

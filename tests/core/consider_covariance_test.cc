@@ -193,6 +193,56 @@ TEST_CASE("ConsiderCovariance: a known input adds nothing, an unknown one what t
   CHECK(consider(1e8).first.isApprox(views_only, 1e-6));
 }
 
+TEST_CASE("ConsiderCovariance: independent inputs are held, and add G_r Σ_r Gᵀ_r at their own Σ") {
+  // x (3) estimated; c (2) a given input under a prior (posterior Σ, as
+  // above); r (3) an input of the second kind (a robot pose held as
+  // reported), all seen by the same 12 residuals.
+  std::mt19937_64 rng(27);
+  LinearProblem linear;
+  const int x_index = linear.AddBlock({0.0, 0.0, 0.0});
+  const int c_index = linear.AddBlock({1.1, -0.3});
+  const int r_index = linear.AddBlock({0.2, 0.1, -0.4});
+  linear.AddTerm({x_index, c_index, r_index},
+                 {RandomMatrix(12, 3, &rng), RandomMatrix(12, 2, &rng), RandomMatrix(12, 3, &rng)},
+                 RandomMatrix(12, 1, &rng));
+  Eigen::Matrix2d L;
+  L << 2.0, 0.0, 0.7, 3.0;
+  linear.AddTerm({c_index}, {L}, L * Eigen::Vector2d(0.9, -0.4));
+  const Eigen::Matrix3d L_r = 4.0 * Eigen::Matrix3d::Identity();
+  linear.AddTerm({r_index}, {L_r}, L_r * Eigen::Vector3d(0.2, 0.1, -0.4));
+  double* x = linear.block(x_index);
+  {
+    const Eigen::MatrixXd J_x = linear.TangentJacobian().leftCols(3);
+    const Eigen::VectorXd step =
+        -(J_x.transpose() * J_x).ldlt().solve(J_x.transpose() * linear.Residuals());
+    std::copy(step.data(), step.data() + 3, x);
+  }
+  ceres::Problem problem;
+  linear.Build(&problem);
+  Eigen::Matrix3d sigma_r;
+  sigma_r << 0.05, 0.01, 0.0, 0.01, 0.08, -0.02, 0.0, -0.02, 0.03;
+  ConsiderCovariance covariance({{linear.block(c_index), {0, 1}}}, SomeSigma(),
+                                L.transpose() * L);
+  covariance.HoldIndependent({{linear.block(r_index), {0, 1, 2}}}, sigma_r);
+  REQUIRE(covariance.Compute({{x, x}}, &problem, 1));
+
+  const Eigen::MatrixXd J = linear.TangentJacobian();
+  const double variance_factor = 0.7;
+  // c's formulas with r held where it is (its columns no unknowns).
+  const Hand hand(J, linear.Residuals(), {0, 1, 2}, {3, 4}, L.transpose() * L, SomeSigma(),
+                  variance_factor);
+  const Eigen::MatrixXd H = J.transpose() * J;
+  const std::vector<int> F = {0, 1, 2}, R = {5, 6, 7};
+  const Eigen::MatrixXd G_r = Inverse(H(F, F)) * H(F, R);
+  CHECK(covariance.Block(x, x).isApprox(hand.held, 1e-9));
+  CHECK(covariance.Consider(x, variance_factor).isApprox(hand.consider.topLeftCorner(3, 3), 1e-9));
+  CHECK(covariance.Shift(x, variance_factor).isApprox(hand.shift.head(3), 1e-9));
+  CHECK(covariance.Independent(x, x).isApprox(G_r * sigma_r * G_r.transpose(), 1e-9));
+  // Held names the given intrinsics' coordinates only.
+  CHECK(covariance.Held(linear.block(r_index)).empty());
+  CHECK(covariance.Held(linear.block(c_index)) == std::vector<int>{0, 1});
+}
+
 TEST_CASE("ConsiderCovariance: some coordinates of two blocks held, one on a manifold") {
   // c holds its first parameter (a subset manifold) and is held in its second
   // tangent coordinate; d is held in both. Free: x and c's first tangent coordinate.

@@ -100,12 +100,13 @@ TEST_CASE(
   // 0.03°. The solved cameras and target take up 7 of each record axis' 12
   // degrees of freedom; the solved poses' spread alone put the robot's σ at
   // 0.13-0.21 mm and the cameras' own σ 1.5x below their true error (RMS;
-  // with the REML count 1.2x). Counted over the solves that model the
-  // robot's error (3 of the 6 with the exchange planner: 0.93). Where
-  // held-out poses choose the exact robot (2) or the views show no robot
-  // error (1), the cameras are 1.96x their own σ (RMS): a robot turn of
-  // 0.017° per axis, which these views cannot tell from PnP's noise (every
-  // estimate puts it at 0), moves a camera 4 m away by 1.2 mm.
+  // with the REML count 1.2x). Counted over the solves where the views
+  // showed the robot's error: 3 of the 6 model it (0.98, 0.72, 1.11), in 2
+  // held-out poses choose the exact robot, whose σ then carries the modelled
+  // solve's robot σ as an uncertain input (1.94 and 1.85 without it, 0.84
+  // and 1.14 with it); together 0.94. Left out: the one (seed 2006) whose
+  // views show no robot error at all, 2.05x (an error below what the views
+  // can see, which no estimate here holds).
   const auto target = std::make_shared<const CheckerboardTarget>(7, 4, 0.04);
   double error_sq = 0, sigma_sq = 0;
   int cameras = 0;
@@ -131,7 +132,7 @@ TEST_CASE(
     const SyntheticScene scene = test::ProjectedScene(options, 0.2, 4, seed + 7919);
     const CalibrationResult result = Calibrate(scene.dataset, CalibrationOptions{});
     const Evaluation evaluation = EvaluateAgainstTruth(result, scene.truth);
-    if (!(result.solver.robot_sigma_mm > 0)) continue;
+    if (!(result.solver.robot_sigma_mm > 0) && !result.solver.model) continue;
     for (const CameraError& e : evaluation.cameras)
       for (const CameraResult& c : result.cameras)
         if (c.name == e.name && c.sigma) {
@@ -140,7 +141,7 @@ TEST_CASE(
           ++cameras;
         }
   }
-  REQUIRE(cameras >= 18);
+  REQUIRE(cameras >= 30);
   const double ratio = std::sqrt(error_sq / sigma_sq);
   INFO("RMS true error over RMS own sigma: " << ratio << " over " << cameras << " cameras");
   CHECK(ratio < 1.35);
