@@ -33,6 +33,16 @@ Eigen::MatrixXd BlockDiagonal(const std::vector<Eigen::MatrixXd>& blocks) {
   return out;
 }
 
+Eigen::Matrix<double, 6, 6> PriorJacobian(const ceres::Problem& problem,
+                                          const RobotPoseBlock& block) {
+  Eigen::Matrix<double, 6, 6, Eigen::RowMajor> J;
+  double* jacobians[] = {J.data()};
+  double cost;
+  Eigen::Matrix<double, 6, 1> residuals;
+  problem.EvaluateResidualBlock(block.prior, false, &cost, residuals.data(), jacobians);
+  return J;
+}
+
 namespace {
 
 /// Where the robot's error the covariance assumes (RobotPrior::CovarianceSigmaM)
@@ -52,11 +62,7 @@ std::vector<Eigen::Matrix<double, 6, 6>> SandwichWeights(
       Eigen::Vector3d::Constant(1.0 - translation * translation);
   std::vector<Eigen::Matrix<double, 6, 6>> M;
   for (const RobotPoseBlock& block : robot_poses) {
-    Eigen::Matrix<double, 6, 6, Eigen::RowMajor> J;
-    double* jacobians[] = {J.data()};
-    double cost;
-    Eigen::Matrix<double, 6, 1> residuals;
-    problem.EvaluateResidualBlock(block.prior, false, &cost, residuals.data(), jacobians);
+    const Eigen::Matrix<double, 6, 6> J = PriorJacobian(problem, block);
     M.push_back(J.transpose() * keep.asDiagonal() * J);
   }
   return M;

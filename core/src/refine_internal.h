@@ -40,6 +40,11 @@ struct RobotPoseBlock {
   ceres::ResidualBlockId prior;
 };
 
+/// The Jacobian of the block's prior residuals (rotation, then translation,
+/// each over its σ) in the pose block's tangent space, at its current value.
+Eigen::Matrix<double, 6, 6> PriorJacobian(const ceres::Problem& problem,
+                                          const RobotPoseBlock& block);
+
 /// The joint solve's covariance at its solution (see refine_covariance.cc):
 /// fills `out`'s covariances and intrinsics σ; leaves them empty when the
 /// Jacobian is rank deficient. `at_pose`: the residual blocks of each robot

@@ -235,11 +235,7 @@ void HoldRobotPoses(const JointBuild& b, ConsiderCovariance* covariance) {
   std::vector<ConsiderCovariance::Coordinates> coordinates;
   std::vector<Eigen::MatrixXd> sigmas;
   for (const RobotPoseBlock& pose : b.robot_poses) {
-    Eigen::Matrix<double, 6, 6, Eigen::RowMajor> J;
-    double* jacobians[] = {J.data()};
-    double cost;
-    Eigen::Matrix<double, 6, 1> residuals;
-    b.chain.problem().EvaluateResidualBlock(pose.prior, false, &cost, residuals.data(), jacobians);
+    const Eigen::Matrix<double, 6, 6> J = PriorJacobian(b.chain.problem(), pose);
     const double pixel_sigma = b.robot->pixel_sigma_px;
     coordinates.push_back({pose.pose, {0, 1, 2, 3, 4, 5}});
     sigmas.push_back(pixel_sigma * pixel_sigma *
