@@ -227,12 +227,16 @@ std::string CheckSetupMistakes(const Problem& problem, int threads) {
   return note;
 }
 
+bool RobotSigmaPlausible(double sigma_m, double sigma_rad) {
+  return sigma_m * 1000.0 <= kMaxRobotSigmaMm && sigma_rad / kDeg <= kMaxRobotSigmaDeg;
+}
+
 void CheckRobotSigma(const RobotPrior& robot) {
   // The σ the solved pose blocks show where it was settled, else the prior's.
   const double sigma_m = robot.settled_sigma_m > 0 ? robot.settled_sigma_m : robot.sigma_m;
   const double sigma_rad = robot.settled_sigma_rad > 0 ? robot.settled_sigma_rad : robot.sigma_rad;
   const double mm = sigma_m * 1000.0, deg = sigma_rad / kDeg;
-  if (mm <= kMaxRobotSigmaMm && deg <= kMaxRobotSigmaDeg) return;
+  if (RobotSigmaPlausible(sigma_m, sigma_rad)) return;
   throw SolveError(
       "the robot's own pose error would have to be σ " + Fixed(mm, 2) + " mm and " + Fixed(deg, 3) +
       " deg per axis to explain the views: more than any industrial robot (" +

@@ -58,6 +58,10 @@ SetupVerdict JudgeSetup(const Problem& problem, int threads);
 /// of what it found (for the result's notes).
 std::string CheckSetupMistakes(const Problem& problem, int threads);
 
+/// Whether a robot pose error of σ per axis (m, rad) is one an industrial
+/// robot can have: ≤ 5 mm and ≤ 0.5°.
+bool RobotSigmaPlausible(double sigma_m, double sigma_rad);
+
 /// Throws SolveError when the robot's pose error, estimated from the views,
 /// is larger than any industrial robot's (σ > 5 mm or > 0.5° per axis): a
 /// misfit of that size is a setup mistake the checks above did not name, not
