@@ -4,9 +4,12 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <limits>
 #include <thread>
+
+#include "handeye/core/error.h"
 
 namespace handeye::tools {
 namespace {
@@ -82,6 +85,16 @@ CLI::Validator PositiveNumber(const std::string& expected) {
 
 CLI::Validator NonNegativeNumber(const std::string& expected) {
   return NumberIn(0, std::numeric_limits<double>::max(), false, expected);
+}
+
+std::pair<int, int> ParseTwoCounts(const std::string& option, const std::string& text,
+                                   const std::string& what) {
+  int a = 0, b = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &a, &x, &b, &extra) != 3 || (x != 'x' && x != 'X') ||
+      a <= 0 || b <= 0)
+    throw InputError("", option, "expected " + what + ", got '" + text + "'");
+  return {a, b};
 }
 
 }  // namespace handeye::tools

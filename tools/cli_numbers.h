@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <utility>
 
 namespace handeye::tools {
 
@@ -33,5 +34,10 @@ constexpr long long kMaxThreads = 1024;
 CLI::Validator ThreadCount();
 CLI::Validator PositiveNumber(const std::string& expected);
 CLI::Validator NonNegativeNumber(const std::string& expected);
+
+/// "AxB" with two positive integers ("7x4", "1920x1080"); anything else throws
+/// InputError for `option`, saying it expected `what`.
+std::pair<int, int> ParseTwoCounts(const std::string& option, const std::string& text,
+                                   const std::string& what);
 
 }  // namespace handeye::tools

@@ -2,7 +2,6 @@
 // `handeye simulate OUTDIR`: renders a synthetic workcell (SPEC §7) into
 // OUTDIR/dataset.json, OUTDIR/ground_truth.json and OUTDIR/images/.
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -53,17 +52,6 @@ struct SimulateArgs {
 
 InputError BadOption(const std::string& option, const std::string& expected) {
   return InputError("", option, expected);
-}
-
-/// "AxB" with two positive integers, e.g. "7x4" or "1920x1080".
-std::pair<int, int> ParsePair(const std::string& option, const std::string& text,
-                              const std::string& what) {
-  int a = 0, b = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &a, &x, &b, &extra) != 3 || (x != 'x' && x != 'X') ||
-      a <= 0 || b <= 0)
-    throw BadOption(option, "expected " + what + ", got '" + text + "'");
-  return {a, b};
 }
 
 /// A camera of the scene and two finite numbers, NAME:A:B.
@@ -127,7 +115,7 @@ SceneOptions MakeSceneOptions(const SimulateArgs& args) {
     options.bump_deg = bump.second;
   }
   if (!args.image_size.empty()) {
-    const auto [w, h] = ParsePair("--image-size", args.image_size, "WIDTHxHEIGHT in pixels");
+    const auto [w, h] = ParseTwoCounts("--image-size", args.image_size, "WIDTHxHEIGHT in pixels");
     options.width = w;
     options.height = h;
   }

@@ -2,7 +2,6 @@
 #include "target_options.h"
 
 #include <cmath>
-#include <cstdio>
 #include <vector>
 
 #include "cli_numbers.h"
@@ -35,15 +34,9 @@ constexpr const char* kCharucoDictionary = "DICT_5X5_100";
 constexpr int kAprilTagsX = 6, kAprilTagsY = 4;
 constexpr double kAprilTagM = 0.05, kAprilSpacing = 0.25;
 
-/// "AxB" with two positive integers, e.g. "7x4".
-std::vector<double> ParsePair(const std::string& option, const std::string& text,
-                              const std::string& what) {
-  int a = 0, b = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &a, &x, &b, &extra) != 3 || (x != 'x' && x != 'X') ||
-      a <= 0 || b <= 0)
-    throw InputError("", option, "expected " + what + ", got '" + text + "'");
-  return {double(a), double(b)};
+/// Two counts as a target's values hold them.
+std::vector<double> Counts(std::pair<int, int> counts) {
+  return {double(counts.first), double(counts.second)};
 }
 
 /// A `target` object from a file: the object itself, or the `target` of a
@@ -145,20 +138,20 @@ std::shared_ptr<const Target> MakeTargetFromOptions(const TargetOptions& o, bool
     auto& v = spec.values;
     if (spec.type == "checkerboard") {
       v["inner_corners"] = o.Given("--board")
-                               ? ParsePair("--board", o.board, "COLSxROWS inner corners")
+                               ? Counts(ParseTwoCounts("--board", o.board, "COLSxROWS inner corners"))
                            : metric ? std::vector<double>{kMetricCols, kMetricRows}
                                     : std::vector<double>{kCheckerCols, kCheckerRows};
       v["square_size_m"] = o.Given("--square") ? o.square_m
                            : metric            ? kMetricSquareM
                                                : kCheckerSquareM;
     } else if (spec.type == "charuco") {
-      v["squares"] = o.Given("--squares") ? ParsePair("--squares", o.squares, "SXxSY squares")
+      v["squares"] = o.Given("--squares") ? Counts(ParseTwoCounts("--squares", o.squares, "SXxSY squares"))
                                           : std::vector<double>{kCharucoSquaresX, kCharucoSquaresY};
       v["square_size_m"] = o.Given("--square") ? o.square_m : kCharucoSquareM;
       v["marker_size_m"] = o.Given("--marker") ? o.marker_m : kCharucoMarkerM;
       v["dictionary"] = o.Given("--dictionary") ? o.dictionary : std::string(kCharucoDictionary);
     } else {
-      v["tags"] = o.Given("--tags") ? ParsePair("--tags", o.tags, "COLSxROWS tags")
+      v["tags"] = o.Given("--tags") ? Counts(ParseTwoCounts("--tags", o.tags, "COLSxROWS tags"))
                                     : std::vector<double>{kAprilTagsX, kAprilTagsY};
       v["tag_size_m"] = o.Given("--tag-size") ? o.tag_size_m : kAprilTagM;
       v["tag_spacing"] = o.Given("--tag-spacing") ? o.tag_spacing : kAprilSpacing;
