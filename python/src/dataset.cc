@@ -165,7 +165,7 @@ py::array_t<std::uint8_t> LoadImage(const PyDataset& self, const std::string& ca
   return out;
 }
 
-void Detect(PyDataset& self, int threads, py::object progress) {
+void DetectImageFiles(PyDataset& self, int threads, py::object progress) {
   CheckThreads(threads);
   Progress report(std::move(progress));
   DetectOptions options;
@@ -255,7 +255,7 @@ void AddDataset(py::module_& m) {
            "False when the target is not found.")
       .def("image", &LoadImage, py::arg("camera"), py::arg("pose"),
            "The image of `camera` at `pose` as 8-bit grey (H×W uint8), read as detection reads it.")
-      .def("detect", &Detect, py::arg("threads") = 0, py::arg("progress") = py::none(),
+      .def("detect", &DetectImageFiles, py::arg("threads") = 0, py::arg("progress") = py::none(),
            "Detects the target in every image file of the poses (as `handeye detect`), replacing "
            "the views. "
            "progress(done, total) is called after each image.")

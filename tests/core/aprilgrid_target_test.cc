@@ -23,7 +23,7 @@ MarkerCodebook TinyFamily(int count) {
   return book;
 }
 
-TargetSpec Spec(int cols, int rows, double size, double spacing) {
+TargetSpec AprilGridSpec(int cols, int rows, double size, double spacing) {
   TargetSpec spec;
   spec.type = "aprilgrid";
   spec.values["tags"] = std::vector<double>{double(cols), double(rows)};
@@ -32,7 +32,7 @@ TargetSpec Spec(int cols, int rows, double size, double spacing) {
   return spec;
 }
 
-std::string ErrorOf(const TargetSpec& spec) {
+std::string AprilGridErrorOf(const TargetSpec& spec) {
   try {
     AprilGridTarget target(spec, TinyFamily(10));
   } catch (const InputError& e) {
@@ -47,7 +47,7 @@ TEST_CASE("aprilgrid points follow Kalibr's index layout, y negated", "[aprilgri
   // Kalibr: point (c, r) of a 2·cols × 2·rows grid has id r·2·cols + c and
   // lies at X = ⌊c/2⌋(s+g) + (c mod 2)s, Y likewise with r; here y = -Y.
   const double s = 0.08, g = 0.3 * s;
-  const AprilGridTarget grid(Spec(3, 2, s, 0.3), TinyFamily(10));
+  const AprilGridTarget grid(AprilGridSpec(3, 2, s, 0.3), TinyFamily(10));
   REQUIRE(grid.Points().size() == 6 * 4);
   for (int r = 0; r < 4; ++r) {
     for (int c = 0; c < 6; ++c) {
@@ -59,7 +59,7 @@ TEST_CASE("aprilgrid points follow Kalibr's index layout, y negated", "[aprilgri
   }
   // Kalibr's own picture of a 2×2 grid: tag 0 has corners 0, 1, 5, 4
   // (bottom-left, bottom-right, top-right, top-left); tag 3 has 10, 11, 15, 14.
-  const AprilGridTarget two(Spec(2, 2, s, 0.3), TinyFamily(10));
+  const AprilGridTarget two(AprilGridSpec(2, 2, s, 0.3), TinyFamily(10));
   CHECK(two.TagCornerIds(0) == std::array<int, 4>{0, 1, 5, 4});
   CHECK(two.TagCornerIds(1) == std::array<int, 4>{2, 3, 7, 6});
   CHECK(two.TagCornerIds(2) == std::array<int, 4>{8, 9, 13, 12});
@@ -70,7 +70,7 @@ TEST_CASE("aprilgrid print: tag 0 bottom-left and upright, 2-bit border, black c
           "[aprilgrid]") {
   const double s = 0.06, g = 0.25 * s, b = s / 6;  // 2 data + 2·2 border cells
   const MarkerCodebook book = TinyFamily(10);
-  const AprilGridTarget grid(Spec(3, 2, s, 0.25), book);
+  const AprilGridTarget grid(AprilGridSpec(3, 2, s, 0.25), book);
   // Corner squares at the gap crossings touch the tag corners diagonally.
   CHECK(grid.Albedo(-0.5 * g, 0.5 * g) == 0.0);        // below-left of tag 0's bottom-left corner
   CHECK(grid.Albedo(s + 0.5 * g, 0.5 * g) == 0.0);     // between tags 0 and 1, bottom row
@@ -96,7 +96,7 @@ TEST_CASE("aprilgrid print: tag 0 bottom-left and upright, 2-bit border, black c
 
 TEST_CASE("aprilgrid with a 1-bit border puts the data one cell further out", "[aprilgrid]") {
   const double s = 0.04, b = s / 4;
-  TargetSpec spec = Spec(1, 1, s, 0.3);
+  TargetSpec spec = AprilGridSpec(1, 1, s, 0.3);
   spec.values["border_bits"] = 1.0;
   const MarkerCodebook book = TinyFamily(10);
   const AprilGridTarget grid(spec, book);
@@ -125,30 +125,30 @@ TEST_CASE("aprilgrid accepts Kalibr's key names and writes SPEC's", "[aprilgrid]
   CHECK_FALSE(spec.Has("tagCols"));
   CHECK(spec.GetString("family", "") == "tag36h11");
   CHECK(spec.GetInt("border_bits", 1) == 2);
-  const AprilGridTarget same(Spec(6, 4, 0.088, 0.3), TinyFamily(30));
+  const AprilGridTarget same(AprilGridSpec(6, 4, 0.088, 0.3), TinyFamily(30));
   REQUIRE(same.Points().size() == grid.Points().size());
   for (std::size_t i = 0; i < grid.Points().size(); ++i)
     CHECK((same.Points()[i].p_target - grid.Points()[i].p_target).norm() < 1e-15);
 }
 
 TEST_CASE("aprilgrid spec errors name the key", "[aprilgrid]") {
-  CHECK_THAT(ErrorOf(Spec(4, 3, 0.05, 1.5)), Catch::Contains("/tag_spacing"));
-  CHECK_THAT(ErrorOf(Spec(4, 3, -0.05, 0.3)), Catch::Contains("/tag_size_m"));
-  CHECK_THAT(ErrorOf(Spec(4, 3, 0.05, 0.3)), Catch::Contains("/tags"));  // 12 tags, 10 codes
-  TargetSpec both = Spec(2, 2, 0.05, 0.3);
+  CHECK_THAT(AprilGridErrorOf(AprilGridSpec(4, 3, 0.05, 1.5)), Catch::Contains("/tag_spacing"));
+  CHECK_THAT(AprilGridErrorOf(AprilGridSpec(4, 3, -0.05, 0.3)), Catch::Contains("/tag_size_m"));
+  CHECK_THAT(AprilGridErrorOf(AprilGridSpec(4, 3, 0.05, 0.3)), Catch::Contains("/tags"));  // 12 tags, 10 codes
+  TargetSpec both = AprilGridSpec(2, 2, 0.05, 0.3);
   both.values["tagCols"] = 2.0;
   both.values["tagRows"] = 2.0;
-  CHECK_THAT(ErrorOf(both), Catch::Contains("not both"));
-  TargetSpec bits = Spec(2, 2, 0.05, 0.3);
+  CHECK_THAT(AprilGridErrorOf(both), Catch::Contains("not both"));
+  TargetSpec bits = AprilGridSpec(2, 2, 0.05, 0.3);
   bits.values["border_bits"] = 3.0;
-  CHECK_THAT(ErrorOf(bits), Catch::Contains("/border_bits"));
-  TargetSpec family = Spec(2, 2, 0.05, 0.3);
+  CHECK_THAT(AprilGridErrorOf(bits), Catch::Contains("/border_bits"));
+  TargetSpec family = AprilGridSpec(2, 2, 0.05, 0.3);
   family.values["family"] = std::string("tag25h9");
-  CHECK_THAT(ErrorOf(family), Catch::Contains("/family"));
-  TargetSpec border = Spec(2, 2, 0.05, 0.3);
+  CHECK_THAT(AprilGridErrorOf(family), Catch::Contains("/family"));
+  TargetSpec border = AprilGridSpec(2, 2, 0.05, 0.3);
   border.values["min_border_px"] = -1.0;
-  CHECK_THAT(ErrorOf(border), Catch::Contains("/min_border_px"));
-  TargetSpec typo = Spec(2, 2, 0.05, 0.3);
+  CHECK_THAT(AprilGridErrorOf(border), Catch::Contains("/min_border_px"));
+  TargetSpec typo = AprilGridSpec(2, 2, 0.05, 0.3);
   typo.values["tag_size"] = 0.05;
-  CHECK_THAT(ErrorOf(typo), Catch::Contains("/tag_size"));
+  CHECK_THAT(AprilGridErrorOf(typo), Catch::Contains("/tag_size"));
 }

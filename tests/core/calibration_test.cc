@@ -28,7 +28,7 @@ using namespace handeye;
 
 namespace {
 
-SyntheticScene Scene(int cameras, int poses, Setup setup, std::uint64_t seed, double noise_px,
+SyntheticScene CalibrationScene(int cameras, int poses, Setup setup, std::uint64_t seed, double noise_px,
                      const std::string& cell = "medium") {
   SceneOptions options;
   options.cell = cell;
@@ -43,7 +43,7 @@ SyntheticScene Scene(int cameras, int poses, Setup setup, std::uint64_t seed, do
   return scene;
 }
 
-CalibrationResult Run(const Dataset& dataset, Method method = Method::kJoint, int threads = 1) {
+CalibrationResult CalibrateWith(const Dataset& dataset, Method method = Method::kJoint, int threads = 1) {
   CalibrationOptions options;
   options.method = method;
   options.threads = threads;
@@ -62,8 +62,8 @@ double CameraRotationError(const CalibrationResult& result, const GroundTruth& t
 
 TEST_CASE("Joint solve recovers the truth exactly without noise", "[calibration]") {
   for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
-    const SyntheticScene scene = Scene(4, 15, setup, 3, 0.0);
-    const CalibrationResult result = Run(scene.dataset);
+    const SyntheticScene scene = CalibrationScene(4, 15, setup, 3, 0.0);
+    const CalibrationResult result = CalibrateWith(scene.dataset);
     INFO("setup " << SetupName(setup));
     REQUIRE(result.solver.converged);
     for (size_t k = 0; k < result.cameras.size(); ++k) {
@@ -80,8 +80,8 @@ TEST_CASE("Joint solve recovers the truth exactly without noise", "[calibration]
 TEST_CASE("Joint solve is within 3 sigma of the Cramér–Rao bound at 0.2 px noise", "[calibration]") {
   const double noise_px = 0.2;
   for (std::uint64_t seed : {11u, 12u, 13u}) {
-    const SyntheticScene scene = Scene(4, 15, Setup::kEyeToHand, seed, noise_px);
-    const CalibrationResult result = Run(scene.dataset);
+    const SyntheticScene scene = CalibrationScene(4, 15, Setup::kEyeToHand, seed, noise_px);
+    const CalibrationResult result = CalibrateWith(scene.dataset);
     const PositionCovariance bound = ComputePositionCovariance(scene.dataset, TruthAsResult(scene.dataset, scene.truth), noise_px);
     for (size_t k = 0; k < result.cameras.size(); ++k) {
       const std::string& name = result.cameras[k].name;
@@ -100,8 +100,8 @@ TEST_CASE("Joint solve is within 3 sigma of the Cramér–Rao bound at 0.2 px no
 }
 
 TEST_CASE("Corrupted views move the joint result by less than 0.5 mm", "[calibration]") {
-  SyntheticScene scene = Scene(4, 20, Setup::kEyeToHand, 21, 0.2);
-  const CalibrationResult clean = Run(scene.dataset);
+  SyntheticScene scene = CalibrationScene(4, 20, Setup::kEyeToHand, 21, 0.2);
+  const CalibrationResult clean = CalibrateWith(scene.dataset);
   // 5% of the views: half get one corner moved by 20 px, half a wrong robot pose
   // (a different pose's images attributed to it is emulated by perturbing the pose).
   auto& observations = scene.dataset.observations;
@@ -118,7 +118,7 @@ TEST_CASE("Corrupted views move the joint result by less than 0.5 mm", "[calibra
       pose.T_base_ee = pose.T_base_ee * MakeTransformFromRotationVector({0.05, 0.0, 0.0}, {0.03, 0.0, 0.0});
     }
   }
-  const CalibrationResult dirty = Run(scene.dataset);
+  const CalibrationResult dirty = CalibrateWith(scene.dataset);
   for (size_t k = 0; k < clean.cameras.size(); ++k) {
     const double moved = (dirty.cameras[k].T_cam.translation() - clean.cameras[k].T_cam.translation()).norm();
     INFO("camera " << clean.cameras[k].name << " moved " << moved * 1e3 << " mm");
@@ -135,11 +135,11 @@ TEST_CASE("Corrupted views move the joint result by less than 0.5 mm", "[calibra
 }
 
 TEST_CASE("Degenerate motion is reported as a SolveError that says what to add", "[calibration]") {
-  SyntheticScene scene = Scene(2, 8, Setup::kEyeToHand, 4, 0.0);
+  SyntheticScene scene = CalibrationScene(2, 8, Setup::kEyeToHand, 4, 0.0);
   // Every robot pose with the same orientation: no rotation between views.
   for (auto& pose : scene.dataset.poses) pose.T_base_ee.linear() = scene.dataset.poses[0].T_base_ee.rotation();
   try {
-    Run(scene.dataset);
+    CalibrateWith(scene.dataset);
     FAIL("expected a SolveError");
   } catch (const SolveError& e) {
     CHECK(std::string(e.what()).find("degenerate robot motion") != std::string::npos);
@@ -148,7 +148,7 @@ TEST_CASE("Degenerate motion is reported as a SolveError that says what to add",
 }
 
 TEST_CASE("A camera that never sees the target is reported, one seen once is calibrated", "[calibration]") {
-  SyntheticScene scene = Scene(4, 15, Setup::kEyeToHand, 8, 0.0);
+  SyntheticScene scene = CalibrationScene(4, 15, Setup::kEyeToHand, 8, 0.0);
   auto& obs = scene.dataset.observations;
   const std::string blind = scene.dataset.cameras[3].name;
   const std::string once = scene.dataset.cameras[2].name;
@@ -164,7 +164,7 @@ TEST_CASE("A camera that never sees the target is reported, one seen once is cal
                            }),
             obs.end());
   REQUIRE(kept);
-  const CalibrationResult result = Run(scene.dataset);
+  const CalibrationResult result = CalibrateWith(scene.dataset);
   CHECK_FALSE(result.cameras[3].calibrated);
   int warned = 0;
   for (const Warning& w : result.warnings) {
@@ -181,8 +181,8 @@ TEST_CASE("A camera that never sees the target is reported, one seen once is cal
 
 TEST_CASE("One to eight cameras", "[calibration]") {
   for (int cameras : {1, 2, 8}) {
-    const SyntheticScene scene = Scene(cameras, 12, Setup::kEyeToHand, 30 + cameras, 0.0);
-    const CalibrationResult result = Run(scene.dataset);
+    const SyntheticScene scene = CalibrationScene(cameras, 12, Setup::kEyeToHand, 30 + cameras, 0.0);
+    const CalibrationResult result = CalibrateWith(scene.dataset);
     INFO(cameras << " cameras");
     for (size_t k = 0; k < result.cameras.size(); ++k)
       if (result.cameras[k].calibrated) CHECK(CameraPositionError(result, scene.truth, k) < 1e-6);
@@ -235,7 +235,7 @@ TEST_CASE("Every method recovers noise-free data from moderate motions", "[calib
   GroundTruth truth;
   const Dataset dataset = ModerateMotionDataset(35.0, &truth);
   for (const std::string& name : MethodNames()) {
-    const CalibrationResult result = Run(dataset, *ParseMethod(name));
+    const CalibrationResult result = CalibrateWith(dataset, *ParseMethod(name));
     INFO("method " << name);
     REQUIRE(result.cameras[0].calibrated);
     // Closed forms are exact on exact data up to their numerics.
@@ -249,12 +249,12 @@ TEST_CASE("Baselines with large motions: exact or reported, never NaN", "[calibr
   // Views on a camera ring differ by up to 180°, where OpenCV's Tsai, Horaud
   // and Daniilidis lose accuracy (the paper's tables show the same): their
   // output must still be a finite rigid transform or a clear failure.
-  const SyntheticScene scene = Scene(3, 12, Setup::kEyeToHand, 9, 0.0);
+  const SyntheticScene scene = CalibrationScene(3, 12, Setup::kEyeToHand, 9, 0.0);
   for (const std::string& name : MethodNames()) {
     INFO("method " << name);
     CalibrationResult result;
     try {
-      result = Run(scene.dataset, *ParseMethod(name));
+      result = CalibrateWith(scene.dataset, *ParseMethod(name));
     } catch (const SolveError& e) {
       CHECK(std::string(e.what()).find(name) != std::string::npos);
       continue;
@@ -294,7 +294,7 @@ bool StdoutWritable() {
 TEST_CASE("Concurrent calibrations leave stdout open and agree", "[calibration][reentrancy]") {
   // Each call used to point fd 1 at /dev/null and back; two at once could
   // restore each other's /dev/null and silence the process for good.
-  const SyntheticScene scene = Scene(2, 12, Setup::kEyeToHand, 41, 0.1);
+  const SyntheticScene scene = CalibrationScene(2, 12, Setup::kEyeToHand, 41, 0.1);
   const auto stdout_before = StdoutFile();
   REQUIRE(stdout_before);
   for (Method method : {Method::kJoint, Method::kPerCamera, Method::kVisp}) {
@@ -302,8 +302,8 @@ TEST_CASE("Concurrent calibrations leave stdout open and agree", "[calibration][
     const Dataset first_copy = scene.dataset, second_copy = scene.dataset;
     CalibrationResult first, second;
     // Two threads each: the setup checks' closed forms run on both.
-    std::thread first_thread([&] { first = Run(first_copy, method, 2); });
-    std::thread second_thread([&] { second = Run(second_copy, method, 2); });
+    std::thread first_thread([&] { first = CalibrateWith(first_copy, method, 2); });
+    std::thread second_thread([&] { second = CalibrateWith(second_copy, method, 2); });
     first_thread.join();
     second_thread.join();
 
@@ -323,7 +323,7 @@ TEST_CASE("Concurrent calibrations leave stdout open and agree", "[calibration][
 }
 
 TEST_CASE("No method writes to stdout, and stdout works after ViSP's", "[calibration][reentrancy]") {
-  const SyntheticScene scene = Scene(2, 12, Setup::kEyeToHand, 42, 0.1);
+  const SyntheticScene scene = CalibrationScene(2, 12, Setup::kEyeToHand, 42, 0.1);
   // Point fd 1 at a file for the calls, then put the test's stdout back.
   std::fflush(stdout);
   std::FILE* capture = std::tmpfile();
@@ -336,7 +336,7 @@ TEST_CASE("No method writes to stdout, and stdout works after ViSP's", "[calibra
   // candidate of the joint and per-camera methods, and the setup checks run
   // it on several threads at once.
   for (Method method : {Method::kJoint, Method::kPerCamera, Method::kVisp})
-    Run(scene.dataset, method, 2);
+    CalibrateWith(scene.dataset, method, 2);
   std::cout.flush();
   std::fflush(stdout);
   std::fseek(capture, 0, SEEK_END);

@@ -20,7 +20,7 @@ namespace {
 
 // A medium cell of 4 cameras and 20 poses, exact robot, corners projected
 // with 0.05 px of noise; the intrinsics taken as exact.
-SyntheticScene Scene(std::uint64_t seed) {
+SyntheticScene WeightsScene(std::uint64_t seed) {
   SceneOptions options;
   options.cell = "medium";
   options.num_cameras = 4;
@@ -50,7 +50,7 @@ TEST_CASE("one camera that detects 20 times worse leaves the others' accuracy an
           "[camera_weights]") {
   for (const std::uint64_t seed : {1, 2, 3}) {
     INFO("seed " << seed);
-    const SyntheticScene scene = Scene(seed);
+    const SyntheticScene scene = WeightsScene(seed);
     const std::string noisy = scene.dataset.cameras[1].name;
     Dataset blurred = scene.dataset;
     AddNoise(&blurred, noisy, 1.0, seed);

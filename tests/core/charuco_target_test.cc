@@ -25,7 +25,7 @@ MarkerCodebook TinyDictionary(int count) {
   return book;
 }
 
-TargetSpec Spec(int sx, int sy, double square, double marker) {
+TargetSpec CharucoSpec(int sx, int sy, double square, double marker) {
   TargetSpec spec;
   spec.type = "charuco";
   spec.values["squares"] = std::vector<double>{double(sx), double(sy)};
@@ -35,7 +35,7 @@ TargetSpec Spec(int sx, int sy, double square, double marker) {
   return spec;
 }
 
-std::string ErrorOf(const TargetSpec& spec, const MarkerCodebook& book) {
+std::string CharucoErrorOf(const TargetSpec& spec, const MarkerCodebook& book) {
   try {
     CharucoTarget target(spec, book);
   } catch (const InputError& e) {
@@ -47,7 +47,7 @@ std::string ErrorOf(const TargetSpec& spec, const MarkerCodebook& book) {
 }  // namespace
 
 TEST_CASE("charuco corners have OpenCV 4.6 ids y*(sx-1)+x at ((x+1)L, (y+1)L)", "[charuco]") {
-  const CharucoTarget board(Spec(5, 4, 0.04, 0.03), TinyDictionary(20));
+  const CharucoTarget board(CharucoSpec(5, 4, 0.04, 0.03), TinyDictionary(20));
   REQUIRE(board.Points().size() == 4 * 3);
   for (int y = 0; y < 3; ++y) {
     for (int x = 0; x < 4; ++x) {
@@ -61,7 +61,7 @@ TEST_CASE("charuco corners have OpenCV 4.6 ids y*(sx-1)+x at ((x+1)L, (y+1)L)", 
 }
 
 TEST_CASE("charuco markers fill the white squares row by row, square (0, 0) black", "[charuco]") {
-  const CharucoTarget board(Spec(5, 4, 0.04, 0.03), TinyDictionary(20));
+  const CharucoTarget board(CharucoSpec(5, 4, 0.04, 0.03), TinyDictionary(20));
   // 5x4 squares: white where a + b is odd, 10 of them.
   CHECK(board.NumMarkers() == 10);
   CHECK(board.MarkerInSquare(0, 0) == -1);
@@ -92,7 +92,7 @@ TEST_CASE(
     "charuco texture: black squares, white margin, markers with a black border and their bits",
     "[charuco]") {
   const MarkerCodebook book = TinyDictionary(20);
-  const CharucoTarget board(Spec(5, 4, 0.04, 0.03), book);
+  const CharucoTarget board(CharucoSpec(5, 4, 0.04, 0.03), book);
   const auto extent = board.Extent();
   CHECK(extent.min().x() == Approx(-0.005));
   CHECK(extent.max().x() == Approx(0.205));
@@ -117,18 +117,18 @@ TEST_CASE(
 
 TEST_CASE("charuco spec errors name the key", "[charuco]") {
   const MarkerCodebook book = TinyDictionary(20);
-  CHECK_THAT(ErrorOf(Spec(5, 4, 0.04, 0.04), book), Catch::Contains("/marker_size_m"));
-  CHECK_THAT(ErrorOf(Spec(1, 4, 0.04, 0.03), book), Catch::Contains("/squares"));
-  CHECK_THAT(ErrorOf(Spec(9, 9, 0.04, 0.03), book), Catch::Contains("needs 40 markers"));
-  TargetSpec typo = Spec(5, 4, 0.04, 0.03);
+  CHECK_THAT(CharucoErrorOf(CharucoSpec(5, 4, 0.04, 0.04), book), Catch::Contains("/marker_size_m"));
+  CHECK_THAT(CharucoErrorOf(CharucoSpec(1, 4, 0.04, 0.03), book), Catch::Contains("/squares"));
+  CHECK_THAT(CharucoErrorOf(CharucoSpec(9, 9, 0.04, 0.03), book), Catch::Contains("needs 40 markers"));
+  TargetSpec typo = CharucoSpec(5, 4, 0.04, 0.03);
   typo.values["marker_size"] = 0.03;
-  CHECK_THAT(ErrorOf(typo, book), Catch::Contains("/marker_size"));
-  TargetSpec other = Spec(5, 4, 0.04, 0.03);
+  CHECK_THAT(CharucoErrorOf(typo, book), Catch::Contains("/marker_size"));
+  TargetSpec other = CharucoSpec(5, 4, 0.04, 0.03);
   other.values["dictionary"] = std::string("DICT_4X4_50");
-  CHECK_THAT(ErrorOf(other, book), Catch::Contains("/dictionary"));
-  TargetSpec few = Spec(5, 4, 0.04, 0.03);
+  CHECK_THAT(CharucoErrorOf(other, book), Catch::Contains("/dictionary"));
+  TargetSpec few = CharucoSpec(5, 4, 0.04, 0.03);
   few.values["min_corners"] = 3.0;
-  CHECK_THAT(ErrorOf(few, book), Catch::Contains("/min_corners"));
+  CHECK_THAT(CharucoErrorOf(few, book), Catch::Contains("/min_corners"));
   few.values["min_corners"] = 6.0;
-  CHECK(ErrorOf(few, book).empty());
+  CHECK(CharucoErrorOf(few, book).empty());
 }

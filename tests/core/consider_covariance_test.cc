@@ -27,7 +27,7 @@ using handeye::test::RandomMatrix;
 
 namespace {
 
-Eigen::MatrixXd Inverse(const Eigen::MatrixXd& A) { return A.lu().inverse(); }
+Eigen::MatrixXd LuInverse(const Eigen::MatrixXd& A) { return A.lu().inverse(); }
 
 /// The formulas of the file comment for tangent Jacobian J and residuals r.
 /// `error` extends G to every tangent coordinate: a held one's error is
@@ -39,10 +39,10 @@ struct Hand {
        double variance_factor)
       : free(F) {
     const Eigen::MatrixXd H = J.transpose() * J;
-    held = Inverse(H(F, F));
+    held = LuInverse(H(F, F));
     G = held * H(F, K);
     S = H(K, K) - P - H(K, F) * G;
-    posterior = Inverse(Inverse(sigma) + S / variance_factor);
+    posterior = LuInverse(LuInverse(sigma) + S / variance_factor);
     const Eigen::VectorXd g = J.transpose() * r;
     const Eigen::VectorXd delta_c = -posterior * g(K) / variance_factor;
     const int k = static_cast<int>(K.size());
@@ -142,9 +142,9 @@ TEST_CASE("ConsiderCovariance: with Σ the problem's own prior, held + considere
   // σ² H⁻¹_xx = σ² (A_xx⁻¹ + G (S + P)⁻¹ Gᵀ).
   const double variance_factor = GENERATE(0.7, 3.0);
   HeldInput cell(22, Eigen::Vector2d(1.0, -0.5));
-  const auto covariance = cell.Computed(variance_factor * Inverse(cell.P));
+  const auto covariance = cell.Computed(variance_factor * LuInverse(cell.P));
   const Eigen::MatrixXd J = cell.linear.TangentJacobian();
-  const Eigen::MatrixXd freed = Inverse(J.transpose() * J).topLeftCorner(3, 3);
+  const Eigen::MatrixXd freed = LuInverse(J.transpose() * J).topLeftCorner(3, 3);
   CHECK((variance_factor * covariance->Block(cell.x, cell.x) +
          covariance->Consider(cell.x, variance_factor))
             .isApprox(variance_factor * freed, 1e-9));
@@ -164,7 +164,7 @@ TEST_CASE("ConsiderCovariance: Shift is G δc, what freeing c would take off the
               .isApprox(cell.Formulas(SomeSigma(), variance_factor).shift.head(3), 1e-9));
   }
   SECTION("Σ the problem's own prior: the held estimate less the one with c freed") {
-    const auto covariance = cell.Computed(variance_factor * Inverse(cell.P));
+    const auto covariance = cell.Computed(variance_factor * LuInverse(cell.P));
     // The linear problem's minimum with x and c free, one Gauss-Newton step away.
     const Eigen::VectorXd step = -(J.transpose() * J).ldlt().solve(J.transpose() * r);
     CHECK(covariance->Shift(cell.x, variance_factor).isApprox(-step.head(3), 1e-9));
@@ -189,7 +189,7 @@ TEST_CASE("ConsiderCovariance: a known input adds nothing, an unknown one what t
   // Σ → ∞: c as the views alone know it, σ² G S⁻¹ Gᵀ (finite).
   const Hand hand = cell.Formulas(SomeSigma(), variance_factor);
   const Eigen::MatrixXd views_only =
-      variance_factor * hand.G * Inverse(hand.S) * hand.G.transpose();
+      variance_factor * hand.G * LuInverse(hand.S) * hand.G.transpose();
   CHECK(consider(1e8).first.isApprox(views_only, 1e-6));
 }
 
@@ -233,7 +233,7 @@ TEST_CASE("ConsiderCovariance: independent inputs are held, and add G_r Σ_r G�
                   variance_factor);
   const Eigen::MatrixXd H = J.transpose() * J;
   const std::vector<int> F = {0, 1, 2}, R = {5, 6, 7};
-  const Eigen::MatrixXd G_r = Inverse(H(F, F)) * H(F, R);
+  const Eigen::MatrixXd G_r = LuInverse(H(F, F)) * H(F, R);
   CHECK(covariance.Block(x, x).isApprox(hand.held, 1e-9));
   CHECK(covariance.Consider(x, variance_factor).isApprox(hand.consider.topLeftCorner(3, 3), 1e-9));
   CHECK(covariance.Shift(x, variance_factor).isApprox(hand.shift.head(3), 1e-9));

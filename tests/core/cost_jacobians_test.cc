@@ -10,12 +10,13 @@
 #include "cost_jacobians.h"
 #include "handeye/core/transform.h"
 
-using namespace handeye;
-using namespace handeye::cost_internal;
+// In the namespace of what it tests: a using-directive would reach the files a
+// unity build compiles after this one.
+namespace handeye::cost_internal {
 
 namespace {
 
-Camera TestCamera() {
+Camera JacobianTestCamera() {
   std::string why;
   return *Camera::Make("cam", 1920, 1080, 1400, 1395, 955, 545, {-0.1, 0.03, 0.001, -0.002, 0.004}, &why);
 }
@@ -69,7 +70,7 @@ TEST_CASE("ApplyCauchy scales like ProjectPoint and has its derivative", "[cost]
 }
 
 TEST_CASE("The camera model's ProjectWithJacobian: Project's pixel and its derivative", "[camera][jacobian]") {
-  const Camera camera = TestCamera();
+  const Camera camera = JacobianTestCamera();
   IntrinsicsJet2 params;
   for (int k = 0; k < OpenCVCameraModel::kNumParams; ++k) params[k] = ceres::Jet<double, 2>(camera.params[k]);
   using Jet = ceres::Jet<double, 3>;
@@ -92,3 +93,5 @@ TEST_CASE("The camera model's ProjectWithJacobian: Project's pixel and its deriv
   Eigen::Matrix<double, 2, 3> d;
   CHECK_FALSE(OpenCVCameraModel::ProjectWithJacobian(params.data(), behind, uv, &d));
 }
+
+}  // namespace handeye::cost_internal

@@ -22,7 +22,7 @@ using namespace handeye;
 namespace {
 
 // The report tests' small cell: 4 cameras, 960 × 540.
-SyntheticScene Scene(const std::string& cell, int poses, double noise_px) {
+SyntheticScene DiagnosticsScene(const std::string& cell, int poses, double noise_px) {
   SceneOptions options;
   options.cell = cell;
   options.num_cameras = 4;
@@ -39,7 +39,7 @@ SyntheticScene Scene(const std::string& cell, int poses, double noise_px) {
 }  // namespace
 
 TEST_CASE("AX=ZB in the cameras' frame leaves out the target frame's lever arm", "[diagnostics]") {
-  const SyntheticScene scene = Scene("small", 20, 0.0);
+  const SyntheticScene scene = DiagnosticsScene("small", 20, 0.0);
   CalibrationResult result = TruthAsResult(scene.dataset, scene.truth);
   // cam0 turned by 0.2° about its own centre: where it sits is still right.
   Eigen::Isometry3d& T_base_cam0 = result.cameras[0].T_cam;
@@ -64,7 +64,7 @@ TEST_CASE("AX=ZB in the cameras' frame leaves out the target frame's lever arm",
 }
 
 TEST_CASE("Calibrate stores each warning once, the options and the version", "[diagnostics]") {
-  const SyntheticScene scene = Scene("small", 8, 0.1);
+  const SyntheticScene scene = DiagnosticsScene("small", 8, 0.1);
   const CalibrationResult result = Calibrate(scene.dataset, CalibrationOptions{});
   CHECK(!result.handeye_version.empty());
   CHECK(result.options.cross_terms);
@@ -88,7 +88,7 @@ TEST_CASE("Calibrate stores each warning once, the options and the version", "[d
 }
 
 TEST_CASE("A closed form down-weights no view as an outlier", "[diagnostics]") {
-  const SyntheticScene scene = Scene("small", 12, 0.2);
+  const SyntheticScene scene = DiagnosticsScene("small", 12, 0.2);
   CalibrationOptions options;
   options.method = Method::kTsai;
   const CalibrationResult result = Calibrate(scene.dataset, options);
@@ -109,7 +109,7 @@ TEST_CASE("A closed form down-weights no view as an outlier", "[diagnostics]") {
 
 TEST_CASE("evaluate measures a camera's pose error as the closed-form comparison does",
           "[diagnostics][evaluation]") {
-  const SyntheticScene scene = Scene("small", 20, 0.2);
+  const SyntheticScene scene = DiagnosticsScene("small", 20, 0.2);
   const CalibrationResult joint = Calibrate(scene.dataset, CalibrationOptions{});
   CalibrationOptions park_options;
   park_options.method = Method::kPark;

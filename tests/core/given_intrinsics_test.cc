@@ -15,7 +15,7 @@ using namespace handeye;
 
 namespace {
 
-SyntheticScene Scene(const std::string& cell, int poses, double robot_mm, double robot_deg, std::uint64_t seed) {
+SyntheticScene GivenIntrinsicsScene(const std::string& cell, int poses, double robot_mm, double robot_deg, std::uint64_t seed) {
   SceneOptions options;
   options.cell = cell;
   options.num_cameras = 4;
@@ -43,7 +43,7 @@ void GiveIntrinsicsOff(Dataset* dataset) {
 }
 
 // Camera's position error (mm) and rotation error (deg) against the truth.
-std::pair<double, double> ErrorOf(const CameraResult& camera, const GroundTruth& truth) {
+std::pair<double, double> PoseErrorOf(const CameraResult& camera, const GroundTruth& truth) {
   const Eigen::Isometry3d& T = truth.T_cam.at(camera.name);
   return {1000.0 * (camera.T_cam.translation() - T.translation()).norm(),
           RotationDistance(camera.T_cam.rotation(), T.rotation()) * 180.0 / M_PI};
@@ -79,7 +79,7 @@ TEST_CASE("Given intrinsics 1 % and 3 px off: sigma covers the error they cause,
   // cannot see the error there, and only the intrinsics' own σ can carry it.
   int cameras = 0, beyond_3sigma_held = 0;
   for (std::uint64_t seed : {3, 4, 5}) {
-    SyntheticScene scene = Scene("medium", 12, 0.0, 0.0, seed);
+    SyntheticScene scene = GivenIntrinsicsScene("medium", 12, 0.0, 0.0, seed);
     GiveIntrinsicsOff(&scene.dataset);
     CalibrationOptions held;
     held.intrinsics_sigma = GivenIntrinsicsSigma{0.0, 0.0};
@@ -94,7 +94,7 @@ TEST_CASE("Given intrinsics 1 % and 3 px off: sigma covers the error they cause,
       CHECK((camera.T_cam.matrix() - exact.cameras[k].T_cam.matrix()).norm() < 1e-12);
       REQUIRE(camera.sigma);
       REQUIRE(exact.cameras[k].sigma);
-      const auto [e_t, e_r] = ErrorOf(camera, scene.truth);
+      const auto [e_t, e_r] = PoseErrorOf(camera, scene.truth);
       INFO("error " << e_t << " mm, " << e_r << " deg; sigma " << camera.sigma->position_mm << " mm, "
                     << camera.sigma->rotation_deg << " deg; held exact " << exact.cameras[k].sigma->position_mm
                     << " mm");
@@ -114,7 +114,7 @@ TEST_CASE("Given intrinsics 1 % and 3 px off: sigma covers the error they cause,
 
 TEST_CASE("Every method gives each camera it calibrates a sigma that covers its error", "[uncertainty]") {
   // Robot pose error of 0.3 mm / 0.03°: the closed forms are millimetres off.
-  const SyntheticScene scene = Scene("small", 20, 0.3, 0.03, 21);
+  const SyntheticScene scene = GivenIntrinsicsScene("small", 20, 0.3, 0.03, 21);
   for (Method method : {Method::kPerCamera, Method::kPark, Method::kTsai, Method::kAndreff, Method::kLi}) {
     CalibrationOptions options;
     options.method = method;
@@ -124,7 +124,7 @@ TEST_CASE("Every method gives each camera it calibrates a sigma that covers its 
       INFO(MethodName(method) << ", " << camera.name);
       REQUIRE(camera.calibrated);
       REQUIRE(camera.sigma);
-      const auto [e_t, e_r] = ErrorOf(camera, scene.truth);
+      const auto [e_t, e_r] = PoseErrorOf(camera, scene.truth);
       INFO("error " << e_t << " mm, " << e_r << " deg; sigma " << camera.sigma->position_mm << " mm, "
                     << camera.sigma->rotation_deg << " deg");
       CHECK(camera.sigma->position_mm > 0);
@@ -142,7 +142,7 @@ TEST_CASE(
   // moved these, so `check` leaves it out (PoseUncertainty::from_given_intrinsics);
   // where the camera's residuals are above max_camera_rms_px, what the check
   // read as an offset may be a misfit of the model, and it stays the views' own.
-  SyntheticScene scene = Scene("medium", 20, 0.0, 0.0, 3);
+  SyntheticScene scene = GivenIntrinsicsScene("medium", 20, 0.0, 0.0, 3);
   GiveIntrinsicsOff(&scene.dataset);
   const CalibrationResult fits = Calibrate(scene.dataset, CalibrationOptions{});
   CalibrationOptions strict;

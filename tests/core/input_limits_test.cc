@@ -44,7 +44,7 @@ MarkerCodebook OneMarker() {
 }
 
 template <typename Make>
-std::string ErrorOf(Make&& make) {
+std::string InputErrorText(Make&& make) {
   try {
     make();
   } catch (const InputError& e) {
@@ -65,14 +65,14 @@ TEST_CASE("A board of more target points than the cap is refused before its poin
   unsetenv("HANDEYE_MAX_TARGET_POINTS");
   for (const double side : {20000.0, 100000.0}) {
     INFO(side);
-    const std::string error = ErrorOf([&] { CheckerboardTarget target(Checkerboard(side, side)); });
+    const std::string error = InputErrorText([&] { CheckerboardTarget target(Checkerboard(side, side)); });
     CHECK_THAT(error, Contains("/inner_corners: "));
     CHECK_THAT(error,
                Contains("target points; expected at most 20000 (raise it with --max-target-points or HANDEYE_MAX_TARGET_POINTS"));
-    CHECK_THAT(ErrorOf([&] { CharucoTarget target(Charuco(side, side), OneMarker()); }),
+    CHECK_THAT(InputErrorText([&] { CharucoTarget target(Charuco(side, side), OneMarker()); }),
                Contains("/squares: ") && Contains("expected at most 20000"));
   }
-  CHECK_THAT(ErrorOf([] { CheckerboardTarget target(30000, 2, 0.01); }),
+  CHECK_THAT(InputErrorText([] { CheckerboardTarget target(30000, 2, 0.01); }),
              Contains("60000 target points"));
   // 141 x 141 = 19 881 corners is within the default.
   CHECK(CheckerboardTarget(Checkerboard(141, 141)).Points().size() == 19881);
@@ -83,7 +83,7 @@ TEST_CASE("HANDEYE_MAX_TARGET_POINTS raises or lowers the cap and must be a posi
           "[core][target][limits]") {
   {
     ScopedEnvironment lower("HANDEYE_MAX_TARGET_POINTS", "100");
-    CHECK_THAT(ErrorOf([] { CheckerboardTarget target(Checkerboard(11, 10)); }),
+    CHECK_THAT(InputErrorText([] { CheckerboardTarget target(Checkerboard(11, 10)); }),
                Contains("11 x 10 = 110 target points; expected at most 100"));
     CHECK(CheckerboardTarget(Checkerboard(10, 10)).Points().size() == 100);
   }
@@ -95,7 +95,7 @@ TEST_CASE("HANDEYE_MAX_TARGET_POINTS raises or lowers the cap and must be a posi
     INFO(bad);
     ScopedEnvironment wrong("HANDEYE_MAX_TARGET_POINTS", bad);
     CHECK_THAT(
-        ErrorOf([] { CheckerboardTarget target(Checkerboard(7, 4)); }),
+        InputErrorText([] { CheckerboardTarget target(Checkerboard(7, 4)); }),
         Contains("environment variable HANDEYE_MAX_TARGET_POINTS: expected a positive integer"));
   }
 }

@@ -18,7 +18,7 @@ using Catch::Matchers::Contains;
 namespace {
 
 // A medium cell as a real capture gives it: robot pose error, detection noise.
-SyntheticScene Scene(std::uint64_t seed, int poses, double robot_mm = 0.1, double robot_deg = 0.01) {
+SyntheticScene IntrinsicsScene(std::uint64_t seed, int poses, double robot_mm = 0.1, double robot_deg = 0.01) {
   SceneOptions options;
   options.cell = "medium";
   options.num_cameras = 4;
@@ -82,7 +82,7 @@ TEST_CASE("Intrinsics 1 % off: the default solve warns, the refined one recovers
   // 3.5σ); more would mean σ is too small.
   int false_alarms = 0;
   for (std::uint64_t seed : {1, 2}) {
-    const SyntheticScene scene = Scene(seed, 30);
+    const SyntheticScene scene = IntrinsicsScene(seed, 30);
     CalibrationOptions options;
     const CalibrationResult exact = Calibrate(scene.dataset, options);
     const double exact_mm = MeanPositionErrorMm(exact, scene.truth);
@@ -141,7 +141,7 @@ TEST_CASE("Intrinsics 1 % off: the default solve warns, the refined one recovers
 }
 
 TEST_CASE("Distortion k1 off by 0.02: refining all intrinsics recovers it", "[intrinsics]") {
-  const SyntheticScene scene = Scene(3, 30);
+  const SyntheticScene scene = IntrinsicsScene(3, 30);
   const Dataset factory = WithFactoryIntrinsics(scene.dataset, 0.02);
   CalibrationOptions options;
   const double off_mm = MeanPositionErrorMm(Calibrate(factory, options), scene.truth);
@@ -161,7 +161,7 @@ TEST_CASE("Distortion k1 off by 0.02: refining all intrinsics recovers it", "[in
 }
 
 TEST_CASE("A camera without intrinsics: estimated from its views in the joint solve", "[intrinsics]") {
-  const SyntheticScene scene = Scene(4, 30);
+  const SyntheticScene scene = IntrinsicsScene(4, 30);
   CalibrationOptions options;
   const double exact_mm = MeanPositionErrorMm(Calibrate(scene.dataset, options), scene.truth);
   Dataset none = scene.dataset;
@@ -189,7 +189,7 @@ TEST_CASE("A camera without intrinsics: estimated from its views in the joint so
 }
 
 TEST_CASE("A camera without intrinsics and too few views exits with advice", "[intrinsics]") {
-  SyntheticScene scene = Scene(5, 30);
+  SyntheticScene scene = IntrinsicsScene(5, 30);
   Dataset none = scene.dataset;
   none.cameras[1].has_intrinsics = false;
   // Keep two of cam1's views.

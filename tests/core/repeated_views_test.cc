@@ -20,7 +20,7 @@ using Catch::Matchers::Contains;
 namespace {
 
 /// 2 cameras, 12 poses of a projected small cell; every view with its points.
-SyntheticScene Scene() { return test::ProjectedScene("small", 2, 12, 21, 0.1); }
+SyntheticScene RepeatedViewsScene() { return test::ProjectedScene("small", 2, 12, 21, 0.1); }
 
 /// The observations of `camera`, in the dataset's order.
 std::vector<Observation*> ViewsOf(Dataset* dataset, const std::string& camera) {
@@ -36,7 +36,7 @@ void Repeat(const Observation& from, Observation* to) {
   to->points_px = from.points_px;
 }
 
-int UsedViews(const internal::Problem& problem) {
+int CountUsedViews(const internal::Problem& problem) {
   int used = 0;
   for (const internal::View& view : problem.views) used += view.used;
   return used;
@@ -46,7 +46,7 @@ int UsedViews(const internal::Problem& problem) {
 
 TEST_CASE("repeated views: both copies left out, each naming the other pose and the file",
           "[setup][repeated]") {
-  SyntheticScene scene = Scene();
+  SyntheticScene scene = RepeatedViewsScene();
   Dataset& dataset = scene.dataset;
   const std::vector<Observation*> cam0 = ViewsOf(&dataset, "cam0");
   REQUIRE(cam0.size() >= 6);
@@ -57,11 +57,11 @@ TEST_CASE("repeated views: both copies left out, each naming the other pose and 
     if (pose.id == a->pose_id || pose.id == b->pose_id)
       pose.images["cam0"] = "images/cam0/same.png";
   internal::Problem problem = internal::BuildProblem(dataset, CalibrationOptions{});
-  const int before = UsedViews(problem);
+  const int before = CountUsedViews(problem);
   const size_t cam0_before = problem.camera_views[0].size(),
                cam1_before = problem.camera_views[1].size();
   internal::LeaveOutRepeatedViews(&problem);
-  CHECK(UsedViews(problem) == before - 2);
+  CHECK(CountUsedViews(problem) == before - 2);
   int left_out = 0;
   for (const internal::View& view : problem.views) {
     if (view.used) continue;
@@ -82,7 +82,7 @@ TEST_CASE("repeated views: both copies left out, each naming the other pose and 
 
 TEST_CASE("repeated views: different files are not said to be one, other cameras are left alone",
           "[setup][repeated]") {
-  SyntheticScene scene = Scene();
+  SyntheticScene scene = RepeatedViewsScene();
   Dataset& dataset = scene.dataset;
   const std::vector<Observation*> cam1 = ViewsOf(&dataset, "cam1");
   REQUIRE(cam1.size() >= 6);
@@ -107,7 +107,7 @@ TEST_CASE("repeated views: different files are not said to be one, other cameras
 
 TEST_CASE("repeated views: a difference in one pixel's last bit, or too few points, is no repeat",
           "[setup][repeated]") {
-  SyntheticScene scene = Scene();
+  SyntheticScene scene = RepeatedViewsScene();
   Dataset& dataset = scene.dataset;
   const std::vector<Observation*> cam0 = ViewsOf(&dataset, "cam0");
   REQUIRE(cam0.size() >= 4);
@@ -115,14 +115,14 @@ TEST_CASE("repeated views: a difference in one pixel's last bit, or too few poin
   Repeat(*a, b);
   b->points_px.back().x() = std::nextafter(b->points_px.back().x(), 1e9);
   internal::Problem problem = internal::BuildProblem(dataset, CalibrationOptions{});
-  const int before = UsedViews(problem);
+  const int before = CountUsedViews(problem);
   internal::LeaveOutRepeatedViews(&problem);
-  CHECK(UsedViews(problem) == before);
+  CHECK(CountUsedViews(problem) == before);
 }
 
 TEST_CASE("repeated views: a third of a camera network's views or more stops the calibration",
           "[setup][repeated]") {
-  SyntheticScene scene = Scene();
+  SyntheticScene scene = RepeatedViewsScene();
   Dataset& dataset = scene.dataset;
   int views = 0;
   for (const Observation& obs : dataset.observations) views += obs.ids.size() >= 4;
@@ -139,7 +139,7 @@ TEST_CASE("repeated views: a third of a camera network's views or more stops the
   {
     internal::Problem problem = internal::BuildProblem(dataset, CalibrationOptions{});
     CHECK_NOTHROW(internal::LeaveOutRepeatedViews(&problem));  // just under a third
-    CHECK(UsedViews(problem) == views - copies);
+    CHECK(CountUsedViews(problem) == views - copies);
   }
   REQUIRE(j < cam0.size());
   Observation* more = cam0[j];

@@ -23,7 +23,7 @@ namespace {
 // A medium cell of 4 cameras and 30 poses, corners projected with 0.1 px of
 // noise: at a robot error of 0.1 mm / 0.01° its chain residuals are only a
 // little above PnP's.
-SyntheticScene Scene(std::uint64_t seed, double robot_mm, double robot_deg) {
+SyntheticScene RobotModelScene(std::uint64_t seed, double robot_mm, double robot_deg) {
   SceneOptions options;
   options.cell = "medium";
   options.num_cameras = 4;
@@ -55,7 +55,7 @@ TEST_CASE("a robot error the views show only a little is modelled where held-out
           "[robot_model]") {
   for (const std::uint64_t seed : {1, 2}) {
     INFO("seed " << seed);
-    const SyntheticScene scene = Scene(seed, 0.1, 0.01);
+    const SyntheticScene scene = RobotModelScene(seed, 0.1, 0.01);
     CalibrationResult result;
     const double by_default =
         MeanErrorMm(scene.dataset, CalibrationOptions{}, scene.truth, &result);
@@ -78,7 +78,7 @@ TEST_CASE("an exact robot whose views show no error is solved as exact by defaul
           "[robot_model]") {
   for (const std::uint64_t seed : {1, 2, 3}) {
     INFO("seed " << seed);
-    const SyntheticScene scene = Scene(seed, 0.0, 0.0);
+    const SyntheticScene scene = RobotModelScene(seed, 0.0, 0.0);
     CalibrationResult result;
     const double by_default =
         MeanErrorMm(scene.dataset, CalibrationOptions{}, scene.truth, &result);

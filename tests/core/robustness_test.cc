@@ -19,7 +19,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-SyntheticScene Scene(Setup setup, int poses, std::uint64_t seed, double robot_mm, double robot_deg,
+SyntheticScene RobustnessScene(Setup setup, int poses, std::uint64_t seed, double robot_mm, double robot_deg,
                      int swap_poses = 0, const std::string& cell = "medium", double detection_px = 0.1,
                      std::shared_ptr<const Target> target = std::make_shared<const CheckerboardTarget>(7, 4, 0.04)) {
   SceneOptions options;
@@ -38,7 +38,7 @@ SyntheticScene Scene(Setup setup, int poses, std::uint64_t seed, double robot_mm
 }
 
 // The paper's e_t^GT, mean over the calibrated cameras (mm).
-double MeanPositionErrorMm(const CalibrationResult& result, const GroundTruth& truth) {
+double MeanCameraErrorMm(const CalibrationResult& result, const GroundTruth& truth) {
   return EvaluateAgainstTruth(result, truth).mean_translation_mm;
 }
 
@@ -63,7 +63,7 @@ TEST_CASE("Robot records of other poses: their views are left out and named", "[
   for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
     for (std::uint64_t seed : {1u, 2u, 3u}) {
       // 4 of 24 poses carry another pose's record; the robot is 0.3 mm / 0.03° off.
-      const SyntheticScene scene = Scene(setup, 24, seed, 0.3, 0.03, 2);
+      const SyntheticScene scene = RobustnessScene(setup, 24, seed, 0.3, 0.03, 2);
       std::set<std::string> swapped;
       for (const auto& [a, b] : scene.swapped_poses) swapped.insert({a, b});
       REQUIRE(swapped.size() == 4);
@@ -88,8 +88,8 @@ TEST_CASE("Robot records of other poses: their views are left out and named", "[
       }
 
       const CalibrationResult clean = Calibrate(Without(scene.dataset, swapped), CalibrationOptions());
-      const double error = MeanPositionErrorMm(result, scene.truth);
-      const double clean_error = MeanPositionErrorMm(clean, scene.truth);
+      const double error = MeanCameraErrorMm(result, scene.truth);
+      const double clean_error = MeanCameraErrorMm(clean, scene.truth);
       INFO("error " << error << " mm, without the bad views " << clean_error << " mm");
       CHECK(error <= 1.2 * clean_error);
     }
@@ -106,7 +106,7 @@ TEST_CASE("A 180-degree-ambiguous board numbered half a turn round is used flipp
   const int n = static_cast<int>(board->Points().size());
   for (std::uint64_t seed : {4u, 5u}) {
     INFO("seed " << seed);
-    SyntheticScene scene = Scene(Setup::kEyeToHand, 16, seed, 0.2, 0.02, 0, "medium", 0.1, board);
+    SyntheticScene scene = RobustnessScene(Setup::kEyeToHand, 16, seed, 0.2, 0.02, 0, "medium", 0.1, board);
     // Two views (of different cameras) numbered the other way round.
     std::set<std::pair<std::string, std::string>> turned;
     for (Observation& obs : scene.dataset.observations) {
@@ -130,7 +130,7 @@ TEST_CASE("A 180-degree-ambiguous board numbered half a turn round is used flipp
     bool noted = false;
     for (const std::string& note : result.notes) noted = noted || note.find("2 views of the 180°-ambiguous board were numbered half a turn round") == 0;
     CHECK(noted);
-    CHECK(MeanPositionErrorMm(result, scene.truth) < 2.0);
+    CHECK(MeanCameraErrorMm(result, scene.truth) < 2.0);
   }
 }
 
@@ -144,7 +144,7 @@ TEST_CASE("A 180-degree-ambiguous board numbered either way in many views, a who
   const int n = static_cast<int>(board->Points().size());
   for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
     INFO(SetupName(setup));
-    SyntheticScene scene = Scene(setup, 16, 6, 0.2, 0.02, 0, "medium", 0.1, board);
+    SyntheticScene scene = RobustnessScene(setup, 16, 6, 0.2, 0.02, 0, "medium", 0.1, board);
     std::set<std::pair<std::string, std::string>> turned;
     for (size_t i = 0; i < scene.dataset.observations.size(); ++i) {
       Observation& obs = scene.dataset.observations[i];
@@ -163,14 +163,14 @@ TEST_CASE("A 180-degree-ambiguous board numbered either way in many views, a who
     // Flipped exactly where turned, or (the board's numbering being a
     // convention) exactly where not.
     CHECK((as_turned == static_cast<int>(result.views.size()) || as_turned == 0));
-    CHECK(MeanPositionErrorMm(result, scene.truth) < 2.0);
+    CHECK(MeanCameraErrorMm(result, scene.truth) < 2.0);
   }
 }
 
 TEST_CASE("On a 180-degree-ambiguous board a robot record of another pose is still left out, not flipped",
           "[calibration][robust][flipped]") {
   const auto board = std::make_shared<const CheckerboardTarget>(7, 5, 0.04);
-  const SyntheticScene scene = Scene(Setup::kEyeToHand, 24, 1, 0.3, 0.03, 2, "medium", 0.1, board);
+  const SyntheticScene scene = RobustnessScene(Setup::kEyeToHand, 24, 1, 0.3, 0.03, 2, "medium", 0.1, board);
   std::set<std::string> swapped;
   for (const auto& [a, b] : scene.swapped_poses) swapped.insert({a, b});
   REQUIRE(swapped.size() == 4);
@@ -183,7 +183,7 @@ TEST_CASE("On a 180-degree-ambiguous board a robot record of another pose is sti
 }
 
 TEST_CASE("A see-through target read from behind: mirrored views are left out", "[calibration][robust]") {
-  SyntheticScene scene = Scene(Setup::kEyeToHand, 40, 5, 0.0, 0.0);
+  SyntheticScene scene = RobustnessScene(Setup::kEyeToHand, 40, 5, 0.0, 0.0);
   // What a detector reads through a glass target from behind: the pattern
   // mirrored, so corner (i, j) gets the id of corner (cols-1-i, j).
   const int cols = 7;
@@ -216,7 +216,7 @@ TEST_CASE("Views seen beyond 75 degrees from face-on are left out, named in one 
   // What the checkerboard detector's lattice now finds: boards turned almost
   // edge-on to a camera. Their poses are poor; the views of up to 70 degrees
   // that the projection keeps must all still count.
-  SyntheticScene scene = Scene(Setup::kEyeToHand, 24, 4, 0.0, 0.0);
+  SyntheticScene scene = RobustnessScene(Setup::kEyeToHand, 24, 4, 0.0, 0.0);
   const Dataset& dataset = scene.dataset;
   std::set<std::pair<std::string, int>> seen;
   for (const Observation& obs : dataset.observations)
@@ -277,7 +277,7 @@ TEST_CASE("Views seen beyond 75 degrees from face-on are left out, named in one 
 }
 
 TEST_CASE("A solve that reaches the iteration limit is returned with a warning", "[calibration][robust]") {
-  const SyntheticScene scene = Scene(Setup::kEyeToHand, 12, 4, 0.5, 0.05);
+  const SyntheticScene scene = RobustnessScene(Setup::kEyeToHand, 12, 4, 0.5, 0.05);
   CalibrationOptions options;
   options.max_iterations = 1;
   options.reject_views = false;
@@ -294,9 +294,9 @@ TEST_CASE("A solve that reaches the iteration limit is returned with a warning",
 TEST_CASE("The loss scale follows the residuals the robot's pose error leaves", "[calibration][robust]") {
   // Without robot error the residuals are the 0.1 px detection noise: the
   // paper's 1 px stays. With 3 mm / 0.3° they are pixels, and so is the scale.
-  const CalibrationResult exact = Calibrate(Scene(Setup::kEyeToHand, 20, 6, 0.0, 0.0).dataset, {});
+  const CalibrationResult exact = Calibrate(RobustnessScene(Setup::kEyeToHand, 20, 6, 0.0, 0.0).dataset, {});
   CHECK(exact.solver.cauchy_scale_px == 1.0);
-  const SyntheticScene noisy = Scene(Setup::kEyeToHand, 20, 6, 3.0, 0.3);
+  const SyntheticScene noisy = RobustnessScene(Setup::kEyeToHand, 20, 6, 3.0, 0.3);
   const CalibrationResult result = Calibrate(noisy.dataset, {});
   CHECK(result.solver.cauchy_scale_px > 2.0);
   CHECK(result.solver.cauchy_scale_px < 3.0 * 3.0 * result.metrics.rms_px);
@@ -310,15 +310,15 @@ TEST_CASE("The loss scale follows the residuals the robot's pose error leaves", 
 TEST_CASE("With robot pose error the joint solve models it and beats its exact-robot form and Park",
           "[calibration][robust]") {
   for (std::uint64_t seed : {1u, 2u, 3u}) {
-    const SyntheticScene scene = Scene(Setup::kEyeToHand, 30, seed, 1.0, 0.1);
+    const SyntheticScene scene = RobustnessScene(Setup::kEyeToHand, 30, seed, 1.0, 0.1);
     const CalibrationResult modelled = Calibrate(scene.dataset, {});
     CalibrationOptions exact;
     exact.robot_sigma_mm = exact.robot_sigma_deg = 0.0;
     CalibrationOptions park;
     park.method = Method::kPark;
-    const double error = MeanPositionErrorMm(modelled, scene.truth);
-    const double exact_error = MeanPositionErrorMm(Calibrate(scene.dataset, exact), scene.truth);
-    const double park_error = MeanPositionErrorMm(Calibrate(scene.dataset, park), scene.truth);
+    const double error = MeanCameraErrorMm(modelled, scene.truth);
+    const double exact_error = MeanCameraErrorMm(Calibrate(scene.dataset, exact), scene.truth);
+    const double park_error = MeanCameraErrorMm(Calibrate(scene.dataset, park), scene.truth);
     INFO("seed " << seed << ": modelled " << error << " mm, exact robot " << exact_error << " mm, Park "
                  << park_error << " mm; robot σ " << modelled.solver.robot_sigma_mm << " mm, "
                  << modelled.solver.robot_sigma_deg << " deg");
@@ -327,7 +327,7 @@ TEST_CASE("With robot pose error the joint solve models it and beats its exact-r
     CHECK(error < park_error);
   }
   // An exact robot is left as the paper models it.
-  const CalibrationResult exact_robot = Calibrate(Scene(Setup::kEyeToHand, 30, 1, 0.0, 0.0).dataset, {});
+  const CalibrationResult exact_robot = Calibrate(RobustnessScene(Setup::kEyeToHand, 30, 1, 0.0, 0.0).dataset, {});
   CHECK(exact_robot.solver.robot_sigma_mm == 0);
 }
 
@@ -337,12 +337,12 @@ TEST_CASE("A small robot pose error is modelled on a large cell; a principal poi
   // rendered cells (0.03 px): the chain's residuals stay under twice PnP's,
   // yet the exact-robot solve is millimetres off.
   for (std::uint64_t seed : {1u, 2u, 3u}) {
-    const SyntheticScene scene = Scene(Setup::kEyeToHand, 8, seed, 0.5, 0.05, 0, "large", 0.03);
+    const SyntheticScene scene = RobustnessScene(Setup::kEyeToHand, 8, seed, 0.5, 0.05, 0, "large", 0.03);
     const CalibrationResult modelled = Calibrate(scene.dataset, {});
     CalibrationOptions exact;
     exact.robot_sigma_mm = exact.robot_sigma_deg = 0.0;
-    const double error = MeanPositionErrorMm(modelled, scene.truth);
-    const double exact_error = MeanPositionErrorMm(Calibrate(scene.dataset, exact), scene.truth);
+    const double error = MeanCameraErrorMm(modelled, scene.truth);
+    const double exact_error = MeanCameraErrorMm(Calibrate(scene.dataset, exact), scene.truth);
     INFO("seed " << seed << ": modelled " << error << " mm, exact robot " << exact_error << " mm; robot σ "
                  << modelled.solver.robot_sigma_mm << " mm, " << modelled.solver.robot_sigma_deg << " deg");
     CHECK(modelled.solver.robot_sigma_mm > 0);
@@ -350,13 +350,13 @@ TEST_CASE("A small robot pose error is modelled on a large cell; a principal poi
   }
   // An exact robot and principal points 4 px off (METRIC as published: 1–3 px): the
   // misfit is the intrinsics', named in a warning, and no pose blocks absorb it.
-  SyntheticScene scene = Scene(Setup::kEyeToHand, 20, 4, 0.0, 0.0, 0, "medium", 0.03);
+  SyntheticScene scene = RobustnessScene(Setup::kEyeToHand, 20, 4, 0.0, 0.0, 0, "medium", 0.03);
   for (Camera& camera : scene.dataset.cameras) {
     camera.params[2] += 3.0;
     camera.params[3] -= 2.5;
   }
   const CalibrationResult result = Calibrate(scene.dataset, {});
-  INFO("robot σ " << result.solver.robot_sigma_mm << " mm; error " << MeanPositionErrorMm(result, scene.truth)
+  INFO("robot σ " << result.solver.robot_sigma_mm << " mm; error " << MeanCameraErrorMm(result, scene.truth)
                   << " mm");
   CHECK(result.solver.robot_sigma_mm == 0);
   CHECK(AnyWarningContains(result, "rerun with --refine-intrinsics principal_point"));

@@ -20,7 +20,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-SyntheticScene Scene(Setup setup, std::uint64_t seed, int poses = 16, double robot_mm = 0.3,
+SyntheticScene MistakeScene(Setup setup, std::uint64_t seed, int poses = 16, double robot_mm = 0.3,
                      double robot_deg = 0.03, int cameras = 3, const std::string& cell = "small",
                      int cols = 7) {
   SceneOptions options;
@@ -76,7 +76,7 @@ void ReadQuaternion(Eigen::Isometry3d* T, bool xyzw_read_as_wxyz) {
 TEST_CASE("Robot poses inverted are named, with the setup swap that fits the same chain",
           "[calibration][setup]") {
   for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
-    SyntheticScene scene = Scene(setup, 2);
+    SyntheticScene scene = MistakeScene(setup, 2);
     ForEachPose(&scene.dataset, [](Eigen::Isometry3d* T) { *T = T->inverse(); });
     RequireNamed(scene.dataset,
                  {"robot poses look inverted", "invert every pose", "--accept-setup"});
@@ -85,7 +85,7 @@ TEST_CASE("Robot poses inverted are named, with the setup swap that fits the sam
 
 TEST_CASE("The setup declared the other way round is named", "[calibration][setup]") {
   for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
-    SyntheticScene scene = Scene(setup, 3);
+    SyntheticScene scene = MistakeScene(setup, 3);
     scene.dataset.setup = setup == Setup::kEyeToHand ? Setup::kEyeInHand : Setup::kEyeToHand;
     // The likelier reading comes first: here the setup, as the lever arms show.
     RequireNamed(scene.dataset,
@@ -94,26 +94,26 @@ TEST_CASE("The setup declared the other way round is named", "[calibration][setu
 }
 
 TEST_CASE("Robot rotations transposed are named", "[calibration][setup]") {
-  SyntheticScene scene = Scene(Setup::kEyeToHand, 4);
+  SyntheticScene scene = MistakeScene(Setup::kEyeToHand, 4);
   ForEachPose(&scene.dataset,
               [](Eigen::Isometry3d* T) { T->linear() = T->linear().transpose().eval(); });
   RequireNamed(scene.dataset, {"rotations look transposed", "transpose the 3×3 rotation"});
 }
 
 TEST_CASE("Quaternions read in the wrong order are named, either way", "[calibration][setup]") {
-  SyntheticScene xyzw = Scene(Setup::kEyeToHand, 5);
+  SyntheticScene xyzw = MistakeScene(Setup::kEyeToHand, 5);
   ForEachPose(&xyzw.dataset, [](Eigen::Isometry3d* T) { ReadQuaternion(T, true); });
   RequireNamed(xyzw.dataset, {"written x, y, z, w but read as w, x, y, z", "quaternion_xyzw"});
-  SyntheticScene wxyz = Scene(Setup::kEyeInHand, 6);
+  SyntheticScene wxyz = MistakeScene(Setup::kEyeInHand, 6);
   ForEachPose(&wxyz.dataset, [](Eigen::Isometry3d* T) { ReadQuaternion(T, false); });
   RequireNamed(wxyz.dataset, {"written w, x, y, z but read as x, y, z, w", "quaternion_wxyz"});
 }
 
 TEST_CASE("Robot translations in the wrong unit are named, either way", "[calibration][setup]") {
-  SyntheticScene metres_as_mm = Scene(Setup::kEyeToHand, 7);
+  SyntheticScene metres_as_mm = MistakeScene(Setup::kEyeToHand, 7);
   ForEachPose(&metres_as_mm.dataset, [](Eigen::Isometry3d* T) { T->translation() /= 1000.0; });
   RequireNamed(metres_as_mm.dataset, {"1000× too small", "translation_m"});
-  SyntheticScene mm_as_metres = Scene(Setup::kEyeInHand, 8);
+  SyntheticScene mm_as_metres = MistakeScene(Setup::kEyeInHand, 8);
   ForEachPose(&mm_as_metres.dataset, [](Eigen::Isometry3d* T) { T->translation() *= 1000.0; });
   RequireNamed(mm_as_metres.dataset, {"1000× too large", "translation_mm"});
 }
@@ -122,7 +122,7 @@ TEST_CASE("A target declared at the wrong size is named with the size it looks",
           "[calibration][setup]") {
   // Squares of 40 mm declared 32 mm, and declared 50 mm.
   for (double declared : {0.032, 0.05}) {
-    SyntheticScene scene = Scene(Setup::kEyeToHand, 9);
+    SyntheticScene scene = MistakeScene(Setup::kEyeToHand, 9);
     scene.dataset.target = std::make_shared<const CheckerboardTarget>(7, 4, declared);
     RequireNamed(scene.dataset, {"the size declared", "square_size_m", "looks "});
     try {
@@ -139,7 +139,7 @@ TEST_CASE("A target declared at the wrong size is named with the size it looks",
 TEST_CASE("Images shifted against the robot poses by one are named, either way",
           "[calibration][setup]") {
   for (int shift : {1, -1}) {
-    SyntheticScene scene = Scene(Setup::kEyeToHand, 10, 18);
+    SyntheticScene scene = MistakeScene(Setup::kEyeToHand, 10, 18);
     std::vector<Eigen::Isometry3d> records;
     for (const RobotPose& pose : scene.dataset.poses) records.push_back(pose.T_base_ee);
     const int n = static_cast<int>(records.size());
@@ -151,7 +151,7 @@ TEST_CASE("Images shifted against the robot poses by one are named, either way",
 
 TEST_CASE("Repeated images: every image the same fails, one repeated image is left out and named",
           "[calibration][setup]") {
-  SyntheticScene scene = Scene(Setup::kEyeToHand, 11);
+  SyntheticScene scene = MistakeScene(Setup::kEyeToHand, 11);
   Dataset all_same = scene.dataset;
   std::map<std::string, Observation> first;
   for (Observation& obs : all_same.observations) {
@@ -197,7 +197,7 @@ TEST_CASE("Repeated images: every image the same fails, one repeated image is le
 TEST_CASE("A robot error beyond any real robot's is refused unless the data are accepted",
           "[calibration][setup]") {
   // Records 8 mm / 0.8 deg off at random: no single mistake explains them.
-  SyntheticScene scene = Scene(Setup::kEyeToHand, 12, 16, 8.0, 0.8);
+  SyntheticScene scene = MistakeScene(Setup::kEyeToHand, 12, 16, 8.0, 0.8);
   RequireNamed(scene.dataset,
                {"the robot's own pose error would have to be", "more than any industrial robot"});
   CalibrationOptions accept;
@@ -209,7 +209,7 @@ TEST_CASE("A robot error beyond any real robot's is refused unless the data are 
 
 TEST_CASE("calibrate with --accept-setup takes a mistaken dataset as it is",
           "[calibration][setup]") {
-  SyntheticScene scene = Scene(Setup::kEyeToHand, 13);
+  SyntheticScene scene = MistakeScene(Setup::kEyeToHand, 13);
   ForEachPose(&scene.dataset,
               [](Eigen::Isometry3d* T) { T->linear() = T->linear().transpose().eval(); });
   CalibrationOptions accept;
@@ -228,7 +228,7 @@ TEST_CASE("Correct cells are never called mistaken", "[calibration][setup]") {
   for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand})
     for (std::uint64_t seed = 1; seed <= 6; ++seed)
       for (const auto& [mm, deg] : {std::pair<double, double>{0.3, 0.03}, {1.0, 0.1}}) {
-        SyntheticScene scene = Scene(setup, seed, seed % 2 ? 14 : 30, mm, deg, seed % 3 ? 4 : 2,
+        SyntheticScene scene = MistakeScene(setup, seed, seed % 2 ? 14 : 30, mm, deg, seed % 3 ? 4 : 2,
                                      seed % 2 ? "small" : "medium", seed > 4 ? 6 : 7);
         if (seed > 4)  // 6×4 inner corners: two views read 180 degrees round
           for (size_t i = 0; i < scene.dataset.observations.size() && i < 14; i += 7)
@@ -248,7 +248,7 @@ TEST_CASE("Correct cells are never called mistaken", "[calibration][setup]") {
 
 TEST_CASE("Correct cells calibrate with default options", "[calibration][setup]") {
   for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
-    const SyntheticScene scene = Scene(setup, 21, 16, 0.3, 0.03);
+    const SyntheticScene scene = MistakeScene(setup, 21, 16, 0.3, 0.03);
     INFO(SetupName(setup));
     CHECK_NOTHROW(Calibrate(scene.dataset, CalibrationOptions()));
   }
@@ -258,7 +258,7 @@ TEST_CASE("Correct cells calibrate with default options", "[calibration][setup]"
 // the lens distortion the images have (as the industrial_calibration ChArUco
 // set gives its camera): the chain's residuals are pixels on correct records.
 SyntheticScene WithoutDistortion(std::uint64_t seed) {
-  SyntheticScene scene = Scene(seed % 2 ? Setup::kEyeToHand : Setup::kEyeInHand, seed, 16,
+  SyntheticScene scene = MistakeScene(seed % 2 ? Setup::kEyeToHand : Setup::kEyeInHand, seed, 16,
                                seed % 3 ? 0.1 : 0.5, seed % 3 ? 0.01 : 0.05, 1 + seed % 3,
                                seed % 4 ? "small" : "medium");
   for (Camera& camera : scene.dataset.cameras) {
@@ -300,7 +300,7 @@ TEST_CASE("A lens model the images do not follow is not taken for a robot error 
   // predict held-out views better, so it is not the robot's: exit 0 with the
   // exact robot and the residuals named.
   for (std::uint64_t seed : {21, 23, 25}) {
-    SyntheticScene scene = Scene(Setup::kEyeToHand, seed, 16, 0.1, 0.01, 1, "small");
+    SyntheticScene scene = MistakeScene(Setup::kEyeToHand, seed, 16, 0.1, 0.01, 1, "small");
     const Camera truth = scene.dataset.cameras[0];
     std::string why;
     scene.dataset.cameras[0] = *Camera::Make(truth.name, truth.width, truth.height, truth.fx(),

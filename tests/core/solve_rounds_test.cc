@@ -48,7 +48,7 @@ void Shift(ProblemCell* cell, int v, double px) {
   for (Eigen::Vector2d& p : cell->scene.dataset.observations[i].points_px) p.x() += px;
 }
 
-internal::Refinement Run(ProblemCell* cell, const CalibrationOptions& options, double first_scale,
+internal::Refinement RunRobustSolve(ProblemCell* cell, const CalibrationOptions& options, double first_scale,
                          TruthSolve* solve, std::vector<Warning>* warnings) {
   return internal::RobustSolve(
       &cell->problem, options, first_scale, [&](double scale) { return (*solve)(scale); },
@@ -83,7 +83,7 @@ TEST_CASE("the robust rounds leave out a view far off the solution, then stop", 
   Shift(&cell, off, 3.0);
   TruthSolve solve{&cell, {}};
   std::vector<Warning> warnings;
-  const internal::Refinement r = Run(&cell, CalibrationOptions{}, 1.0, &solve, &warnings);
+  const internal::Refinement r = RunRobustSolve(&cell, CalibrationOptions{}, 1.0, &solve, &warnings);
   CHECK(warnings.empty());
   // Round 1 finds the view, round 2 nothing; the scale stays at its floor of
   // 1 px (3σ of 0.2 px residuals is below it).
@@ -113,7 +113,7 @@ TEST_CASE("the robust rounds keep views when told to, or when a third of them ar
   keep.reject_views = false;
   TruthSolve solve{&cell, {}};
   std::vector<Warning> warnings;
-  CHECK(Run(&cell, keep, 1.0, &solve, &warnings).summary.rounds == 1);
+  CHECK(RunRobustSolve(&cell, keep, 1.0, &solve, &warnings).summary.rounds == 1);
   CHECK(warnings.empty());
   for (const internal::View& view : cell.problem.views) CHECK(view.used);
   Shift(&cell, one, -3.0);
@@ -130,7 +130,7 @@ TEST_CASE("the robust rounds keep views when told to, or when a third of them ar
   REQUIRE(3 * shifted > used);
   REQUIRE(2 * shifted < used);
   solve.scales.clear();
-  const internal::Refinement r = Run(&cell, CalibrationOptions{}, 1.0, &solve, &warnings);
+  const internal::Refinement r = RunRobustSolve(&cell, CalibrationOptions{}, 1.0, &solve, &warnings);
   REQUIRE(warnings.size() == 1);
   CHECK(warnings[0].kind == WarningKind::kManyViewsOff);
   CHECK_THAT(warnings[0].text,
@@ -144,7 +144,7 @@ TEST_CASE("the robust rounds set the loss scale to 3 sigma of the residuals, unl
   ProblemCell cell(SmallCell(Setup::kEyeToHand, 2, 14, 13), 1.0);
   TruthSolve solve{&cell, {}};
   std::vector<Warning> warnings;
-  const internal::Refinement r = Run(&cell, CalibrationOptions{}, 1.0, &solve, &warnings);
+  const internal::Refinement r = RunRobustSolve(&cell, CalibrationOptions{}, 1.0, &solve, &warnings);
   // 1 px of detection noise: 3 px after the first round, which then holds.
   REQUIRE(solve.scales.size() == 2);
   CHECK(solve.scales[1] == Approx(3.0).epsilon(0.05));
@@ -153,7 +153,7 @@ TEST_CASE("the robust rounds set the loss scale to 3 sigma of the residuals, unl
   CalibrationOptions fixed;
   fixed.cauchy_scale_px = 2.0;
   solve.scales.clear();
-  CHECK(Run(&cell, fixed, 7.0, &solve, &warnings).summary.cauchy_scale_px == 2.0);
+  CHECK(RunRobustSolve(&cell, fixed, 7.0, &solve, &warnings).summary.cauchy_scale_px == 2.0);
   CHECK(solve.scales == std::vector<double>{2.0});
   CHECK(warnings.empty());
 }

@@ -16,7 +16,7 @@ using namespace handeye;
 
 namespace {
 
-TargetSpec Spec() {
+TargetSpec CheckerboardSpec() {
   TargetSpec spec;
   spec.type = "checkerboard";
   spec.values["square_size_m"] = 0.04;
@@ -30,7 +30,7 @@ TargetSpec Spec() {
 }  // namespace
 
 TEST_CASE("TargetSpec's getters read what they document", "[target_spec]") {
-  const TargetSpec spec = Spec();
+  const TargetSpec spec = CheckerboardSpec();
   CHECK(spec.Has("square_size_m"));
   CHECK_FALSE(spec.Has("square_size"));
   CHECK(spec.GetPositive("square_size_m") == 0.04);
@@ -43,7 +43,7 @@ TEST_CASE("TargetSpec's getters read what they document", "[target_spec]") {
 }
 
 TEST_CASE("TargetSpec's getters name the key and what they expected", "[target_spec]") {
-  TargetSpec spec = Spec();
+  TargetSpec spec = CheckerboardSpec();
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
 
@@ -105,7 +105,7 @@ TEST_CASE("TargetSpec's getters name the key and what they expected", "[target_s
 
 TEST_CASE("TargetSpec refuses keys its target does not know, naming the ones it does",
           "[target_spec]") {
-  const TargetSpec spec = Spec();
+  const TargetSpec spec = CheckerboardSpec();
   CHECK_NOTHROW(spec.RejectUnknownKeys(
       {"square_size_m", "inner_corners", "marker_ratio", "dictionary", "count", "extra"}));
   const auto error = test::InputErrorOf([&] {

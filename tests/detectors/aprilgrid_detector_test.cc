@@ -45,7 +45,7 @@ test::IdentifyingCorners TagOf(const AprilGridTarget& grid) {
   };
 }
 
-test::ViewSampling Sampling(double min_px, double max_px) {
+test::ViewSampling AprilGridSampling(double min_px, double max_px) {
   test::ViewSampling sampling;
   sampling.feature_m = kTagM;
   sampling.min_feature_px = min_px;
@@ -53,7 +53,7 @@ test::ViewSampling Sampling(double min_px, double max_px) {
   return sampling;
 }
 
-constexpr double kWrongPx = 3.0, kBorderPx = 6.0;
+constexpr double kWrongPx = 3.0, kAprilGridBorderPx = 6.0;
 
 }  // namespace
 
@@ -150,8 +150,8 @@ TEST_CASE("aprilgrid corners at 1280x720 and 1920x1080: >= 99 % found, mean erro
     INFO(width << "x" << height);
     const Camera camera = test::PinholeCamera(width, height, 0.714 * width);
     const test::Score score =
-        test::RenderAndScore(camera, *grid, detector, TagOf(*grid), Sampling(20, 40),
-                             RenderOptions(), 8, width, kBorderPx, kWrongPx, 8);
+        test::RenderAndScore(camera, *grid, detector, TagOf(*grid), AprilGridSampling(20, 40),
+                             RenderOptions(), 8, width, kAprilGridBorderPx, kWrongPx, 8);
     INFO(score.Summary());
     CHECK(score.expected > 300);
     CHECK(score.Rate() >= 0.99);
@@ -177,7 +177,7 @@ TEST_CASE("aprilgrid partial views: half the grid outside the image, ids still r
     REQUIRE(detection);
     CHECK(detection->ids.size() >= 16);
     CHECK(detection->ids.size() <= grid->Points().size() / 2 + 8);
-    test::ScoreView(camera, *grid, T, TagOf(*grid), detection, 20, kBorderPx, 0.5, 8, &score);
+    test::ScoreView(camera, *grid, T, TagOf(*grid), detection, 20, kAprilGridBorderPx, 0.5, 8, &score);
   }
   INFO(score.Summary());
   CHECK(score.wrong == 0);
@@ -190,12 +190,12 @@ TEST_CASE("aprilgrid: no wrong ids over 200 rendered 640x480 views", "[aprilgrid
   const Camera camera = test::PinholeCamera(640, 480, 0.714 * 640);
   // Tags from 16 px (below the 20 px the rate is promised for) to 60 px,
   // tilted up to 60°, the grid's centre up to a quarter image outside.
-  test::ViewSampling sampling = Sampling(16, 60);
+  test::ViewSampling sampling = AprilGridSampling(16, 60);
   sampling.max_tilt_deg = 60;
   sampling.centre_beyond_border = 0.25;
   const test::Score score =
       test::RenderAndScore(camera, *grid, detector, TagOf(*grid), sampling, RenderOptions(), 200,
-                           4048, kBorderPx, kWrongPx, 8);
+                           4048, kAprilGridBorderPx, kWrongPx, 8);
   INFO(score.Summary());
   CHECK(score.views_detected >= 80);
   CHECK(score.found >= 2500);
@@ -210,8 +210,8 @@ TEST_CASE("aprilgrid with a 1-bit border (border_bits: 1) is detected too", "[ap
   const AprilGridDetector detector(grid);
   const Camera camera = test::PinholeCamera(1280, 720, 900);
   const test::Score score =
-      test::RenderAndScore(camera, *grid, detector, TagOf(*grid), Sampling(25, 40), RenderOptions(),
-                           4, 11, kBorderPx, kWrongPx, 8);
+      test::RenderAndScore(camera, *grid, detector, TagOf(*grid), AprilGridSampling(25, 40), RenderOptions(),
+                           4, 11, kAprilGridBorderPx, kWrongPx, 8);
   INFO(score.Summary());
   CHECK(score.expected > 200);
   CHECK(score.Rate() >= 0.99);

@@ -14,7 +14,7 @@ using namespace handeye;
 
 namespace {
 
-std::shared_ptr<const AprilGridTarget> Grid() {
+std::shared_ptr<const AprilGridTarget> FirstStageGrid() {
   TargetSpec spec;
   spec.type = "aprilgrid";
   spec.values["tags"] = std::vector<double>{6.0, 4.0};
@@ -27,7 +27,7 @@ std::shared_ptr<const AprilGridTarget> Grid() {
 
 TEST_CASE("aprilgrid first stage: the same detections, small and oblique tags included",
           "[aprilgrid][cascade]") {
-  const auto grid = Grid();
+  const auto grid = FirstStageGrid();
   AprilGridDetector::Options without;
   without.first_stage = false;
   const AprilGridDetector fast(grid), full(grid, without);
@@ -61,7 +61,7 @@ TEST_CASE("aprilgrid first stage: the same detections, small and oblique tags in
 
 TEST_CASE("aprilgrid first stage: rendered clutter without the grid gives nothing",
           "[aprilgrid][cascade]") {
-  const auto grid = Grid();
+  const auto grid = FirstStageGrid();
   const AprilGridDetector detector(grid);
   const Camera camera = test::PinholeCamera(1920, 1080, 0.714 * 1920);
   // The grid behind the camera: only the renderer's clutter is in view.

@@ -16,13 +16,13 @@ using namespace handeye;
 
 namespace {
 
-constexpr double kTagM = 0.05, kFocalPx = 1371, kWrongPx = 3.0;
+constexpr double kObliqueTagM = 0.05, kFocalPx = 1371, kObliqueWrongPx = 3.0;
 
-std::shared_ptr<const AprilGridTarget> Grid() {
+std::shared_ptr<const AprilGridTarget> ObliqueGrid() {
   TargetSpec spec;
   spec.type = "aprilgrid";
   spec.values["tags"] = std::vector<double>{6.0, 4.0};
-  spec.values["tag_size_m"] = kTagM;
+  spec.values["tag_size_m"] = kObliqueTagM;
   spec.values["tag_spacing"] = 0.25;
   return MakeAprilGridTarget(spec);
 }
@@ -31,11 +31,11 @@ Camera CellCamera() { return test::PinholeCamera(1920, 1080, kFocalPx); }
 
 /// View k of 12: the grid's tags `tag_px` across face-on, tilted by
 /// first_deg + span_deg · (k + ½) / 12, turned and moved about the image.
-Eigen::Isometry3d ObliqueView(const Camera& camera, const Target& grid, double tag_px,
+Eigen::Isometry3d AprilGridObliqueView(const Camera& camera, const Target& grid, double tag_px,
                               double first_deg, double span_deg, int k) {
   const double tilt_deg = first_deg + span_deg * (k + 0.5) / 12;
   return test::ViewAt(camera, grid, 960 + 90.0 * (k % 3), 540 - 60.0 * (k % 4),
-                      kFocalPx * kTagM / tag_px, 2 * M_PI * k / 12 + 0.3, tilt_deg * M_PI / 180);
+                      kFocalPx * kObliqueTagM / tag_px, 2 * M_PI * k / 12 + 0.3, tilt_deg * M_PI / 180);
 }
 
 RenderOptions Faults(int k, unsigned seed) {
@@ -79,7 +79,7 @@ double Median(std::vector<double> v) {
   return v.empty() ? 0 : v[v.size() / 2];
 }
 
-double Mean(const std::vector<double>& v) {
+double MeanOf(const std::vector<double>& v) {
   double sum = 0;
   for (double x : v) sum += x;
   return v.empty() ? 0 : sum / static_cast<double>(v.size());
@@ -106,7 +106,7 @@ Tally DetectViews(const AprilGridTarget& printed, const AprilGridTarget& declare
   const Camera camera = CellCamera();
   Tally tally;
   for (int k = 0; k < 12; ++k) {
-    const Eigen::Isometry3d T = ObliqueView(camera, printed, tag_px, first_deg, span_deg, k);
+    const Eigen::Isometry3d T = AprilGridObliqueView(camera, printed, tag_px, first_deg, span_deg, k);
     RenderOptions render = Faults(k, seed);
     if (around.on_white) {
       render.clutter = false;
@@ -135,7 +135,7 @@ Tally DetectViews(const AprilGridTarget& printed, const AprilGridTarget& declare
         for (const int corner : printed.TagCornerIds(tag)) tally.covered_reported += corner == id;
       const auto truth = camera.Project(T * printed.FindPoint(id)->p_target);
       const double error = truth ? (detection->points_px[i] - *truth).norm() : 1e9;
-      if (error > kWrongPx) {
+      if (error > kObliqueWrongPx) {
         ++tally.wrong;
         continue;
       }
@@ -152,7 +152,7 @@ Tally DetectViews(const AprilGridTarget& printed, const AprilGridTarget& declare
 std::string Summary(const Tally& t) {
   return std::to_string(t.views) + " of 12 views, " + std::to_string(t.points) +
          " of 1152 corners, " + std::to_string(t.wrong) + " wrong, mean error " +
-         std::to_string(Mean(t.errors)) + " px; tags decoded " + std::to_string(t.decoded) +
+         std::to_string(MeanOf(t.errors)) + " px; tags decoded " + std::to_string(t.decoded) +
          " of 288; corners of covered tags " + std::to_string(t.covered_reported) +
          "; median scale bias " + std::to_string(Median(t.scale_bias) * 1e4) + "e-4";
 }
@@ -171,14 +171,14 @@ TEST_CASE("aprilgrid seen at 45-70 degrees: the tags that decode place the rest 
   // neighbourhood's fit with the image as predicted (the print blurred as
   // the image is, the sheet's edge and what lies behind it), 0.030 px and
   // -0.3e-4.
-  const auto grid = Grid();
+  const auto grid = ObliqueGrid();
   const Tally tally = DetectViews(*grid, *grid, 18, 45, 25, 300);
   INFO(Summary(tally));
   CHECK(tally.decoded < 144);
   CHECK(tally.views >= 10);
   CHECK(tally.points >= 900);
   CHECK(tally.wrong == 0);
-  CHECK(Mean(tally.errors) <= 0.05);
+  CHECK(MeanOf(tally.errors) <= 0.05);
   CHECK(std::abs(Median(tally.scale_bias)) <= 3e-4);
 }
 
@@ -193,14 +193,14 @@ TEST_CASE(
   // taken together) is tried in its four turns; the print lined up with the
   // image from each, the turn under which the tags' grey levels follow
   // their codes places the grid.
-  const auto grid = Grid();
+  const auto grid = ObliqueGrid();
   const Tally tally = DetectViews(*grid, *grid, 14, 60, 15, 500);
   INFO(Summary(tally));
   CHECK(tally.decoded == 0);
   CHECK(tally.views >= 7);
   CHECK(tally.points >= 560);
   CHECK(tally.wrong == 0);
-  CHECK(Mean(tally.errors) <= 0.05);
+  CHECK(MeanOf(tally.errors) <= 0.05);
   CHECK(std::abs(Median(tally.scale_bias)) <= 3e-4);
 }
 
@@ -212,7 +212,7 @@ TEST_CASE("aprilgrid placed whole: covered tags are left out, another grid's pri
   // printed from other tag ids lines up with the declared one's outline
   // just as well, but no turn makes its grey levels follow the declared
   // codes: nothing is placed, with or without decoded tags.
-  const auto grid = Grid();
+  const auto grid = ObliqueGrid();
   const Tally covered = DetectViews(*grid, *grid, 18, 45, 25, 300, {{14, 15}});
   INFO("covered: " << Summary(covered));
   CHECK(covered.views >= 10);
@@ -220,7 +220,7 @@ TEST_CASE("aprilgrid placed whole: covered tags are left out, another grid's pri
   CHECK(covered.covered_reported == 0);
   CHECK(covered.wrong == 0);
 
-  TargetSpec other_spec = Grid()->Spec();
+  TargetSpec other_spec = ObliqueGrid()->Spec();
   other_spec.values["first_id"] = 200.0;
   const auto other = MakeAprilGridTarget(other_spec);
   for (const double tag_px : {18.0, 14.0}) {
@@ -239,7 +239,7 @@ TEST_CASE("aprilgrid on a white surface: the tags' dark network outlines the gri
   // between them blur into a dark network whose outline is the grid's
   // without the margin: now 6 views, 532 corners, 0.025 px, a median scale
   // bias of 0.8e-4.
-  const auto grid = Grid();
+  const auto grid = ObliqueGrid();
   Surroundings white;
   white.on_white = true;
   const Tally tally = DetectViews(*grid, *grid, 14, 60, 15, 500, white);
@@ -248,6 +248,6 @@ TEST_CASE("aprilgrid on a white surface: the tags' dark network outlines the gri
   CHECK(tally.views >= 6);
   CHECK(tally.points >= 500);
   CHECK(tally.wrong == 0);
-  CHECK(Mean(tally.errors) <= 0.05);
+  CHECK(MeanOf(tally.errors) <= 0.05);
   CHECK(std::abs(Median(tally.scale_bias)) <= 3e-4);
 }

@@ -31,7 +31,7 @@ TargetSpec BoardSpec(int sx = 7, int sy = 5, const std::string& dictionary = "DI
   return spec;
 }
 
-test::ViewSampling Sampling(double min_px, double max_px) {
+test::ViewSampling CharucoSampling(double min_px, double max_px) {
   test::ViewSampling sampling;
   sampling.feature_m = kMarkerM;
   sampling.min_feature_px = min_px;
@@ -41,7 +41,7 @@ test::ViewSampling Sampling(double min_px, double max_px) {
 
 // Wrong id: farther from its true corner than a quarter of the smallest
 // square (20 px markers: 27 px squares); scoring margin: 6 px.
-constexpr double kWrongPx = 3.0, kBorderPx = 6.0;
+constexpr double kCharucoWrongPx = 3.0, kCharucoBorderPx = 6.0;
 
 double Mean(const std::vector<double>& values) {
   double sum = 0;
@@ -148,7 +148,7 @@ TEST_CASE("charuco corners at 1280x720 and 1920x1080: >= 99 % found, mean error 
     const Camera camera = test::PinholeCamera(width, height, 0.714 * width);
     const test::Score score =
         test::RenderAndScore(camera, *board, detector, test::CharucoMarkers(*board),
-                             Sampling(20, 40), render, 12, width, kBorderPx, kWrongPx, 8);
+                             CharucoSampling(20, 40), render, 12, width, kCharucoBorderPx, kCharucoWrongPx, 8);
     INFO(score.Summary());
     CHECK(score.expected > 100);
     CHECK(score.Rate() >= 0.99);
@@ -176,7 +176,7 @@ TEST_CASE("charuco partial views: half the board outside the image, ids still ri
     REQUIRE(detection);
     CHECK(detection->ids.size() >= 12);
     CHECK(detection->ids.size() <= board->Points().size() / 2 + 9);
-    test::ScoreView(camera, *board, T, test::CharucoMarkers(*board), detection, 20, kBorderPx, 0.5,
+    test::ScoreView(camera, *board, T, test::CharucoMarkers(*board), detection, 20, kCharucoBorderPx, 0.5,
                     8, &score);
   }
   INFO(score.Summary());
@@ -188,12 +188,12 @@ TEST_CASE("charuco: no wrong ids over 200 rendered 640x480 views", "[charuco][id
   const auto board = MakeCharucoTarget(BoardSpec());
   const CharucoDetector detector(board);
   const Camera camera = test::PinholeCamera(640, 480, 0.714 * 640);
-  test::ViewSampling sampling = Sampling(14, 60);  // also below 20 px, where misreads would start
+  test::ViewSampling sampling = CharucoSampling(14, 60);  // also below 20 px, where misreads would start
   sampling.max_tilt_deg = 60;
   sampling.centre_beyond_border = 0.3;
   const test::Score score =
       test::RenderAndScore(camera, *board, detector, test::CharucoMarkers(*board), sampling,
-                           RenderOptions(), 200, 2024, kBorderPx, kWrongPx, 8);
+                           RenderOptions(), 200, 2024, kCharucoBorderPx, kCharucoWrongPx, 8);
   INFO(score.Summary());
   CHECK(score.views_detected >= 40);
   CHECK(score.found >= 400);
@@ -222,7 +222,7 @@ TEST_CASE("charuco: corners next to misplaced markers fail the local homography;
     RenderOptions render;
     render.seed = 70 + k;
     const auto detection = detector.Detect(RenderView(camera, misprint, T, render));
-    test::ScoreView(camera, *board, T, test::CharucoMarkers(*board), detection, 20, kBorderPx, 1.0,
+    test::ScoreView(camera, *board, T, test::CharucoMarkers(*board), detection, 20, kCharucoBorderPx, 1.0,
                     8, &score);
   }
   INFO(score.Summary());
@@ -297,7 +297,7 @@ ObliqueViews DetectObliqueViews(double square_px, double first_deg, double span_
     for (std::size_t i = 0; i < detection->ids.size(); ++i) {
       const auto truth = camera.Project(T * board->FindPoint(detection->ids[i])->p_target);
       const double error = truth ? (detection->points_px[i] - *truth).norm() : 1e9;
-      if (error > kWrongPx) {
+      if (error > kCharucoWrongPx) {
         ++views.wrong;
         continue;
       }

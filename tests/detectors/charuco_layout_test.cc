@@ -16,14 +16,14 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-constexpr double kSquareM = 0.055, kMarkerM = 0.04;
+constexpr double kLayoutSquareM = 0.055, kLayoutMarkerM = 0.04;
 
 TargetSpec Spec(int sx, int sy, const std::string& layout = "") {
   TargetSpec spec;
   spec.type = "charuco";
   spec.values["squares"] = std::vector<double>{double(sx), double(sy)};
-  spec.values["square_size_m"] = kSquareM;
-  spec.values["marker_size_m"] = kMarkerM;
+  spec.values["square_size_m"] = kLayoutSquareM;
+  spec.values["marker_size_m"] = kLayoutMarkerM;
   spec.values["dictionary"] = std::string("DICT_5X5_100");
   if (!layout.empty()) spec.values["layout"] = layout;
   return spec;
@@ -35,7 +35,7 @@ std::vector<std::pair<Eigen::Isometry3d, cv::Mat>> Views(const Camera& camera,
   std::vector<std::pair<Eigen::Isometry3d, cv::Mat>> views;
   for (int k = 0; k < 3; ++k) {
     const Eigen::Isometry3d T = test::ViewAt(camera, print, 320 + 20 * k, 240 - 10 * k,
-                                             camera.fx() * kMarkerM / 35, 0.5 * k - 0.3, 0.25 * k);
+                                             camera.fx() * kLayoutMarkerM / 35, 0.5 * k - 0.3, 0.25 * k);
     RenderOptions render;
     render.seed = 90 + k;
     views.emplace_back(T, RenderView(camera, print, T, render));
@@ -54,7 +54,7 @@ TEST_CASE(
   CHECK(legacy->legacy());
   CHECK(legacy->MarkerInSquare(0, 0) == 0);
   CHECK(legacy->MarkerInSquare(1, 0) == -1);
-  CHECK(legacy->Albedo(1.5 * kSquareM, 0.5 * kSquareM) == 0.0);
+  CHECK(legacy->Albedo(1.5 * kLayoutSquareM, 0.5 * kLayoutSquareM) == 0.0);
   CHECK(current->MarkerInSquare(0, 0) == -1);
   CHECK(current->MarkerInSquare(1, 0) == 0);
   CHECK(legacy->NumMarkers() == current->NumMarkers());
@@ -80,7 +80,7 @@ TEST_CASE("charuco: the markers laid out from the target are OpenCV 4.6's own bo
     INFO(sx << "x" << sy);
     const auto target = MakeCharucoTarget(Spec(sx, sy));
     const auto opencv = cv::aruco::CharucoBoard::create(
-        sx, sy, 1.0f, static_cast<float>(kMarkerM / kSquareM),
+        sx, sy, 1.0f, static_cast<float>(kLayoutMarkerM / kLayoutSquareM),
         cv::aruco::getPredefinedDictionary(cv::aruco::DICT_5X5_100));
     cv::aruco::CharucoBoard ours = *opencv;
     ours.objPoints.clear();

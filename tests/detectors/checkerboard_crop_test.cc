@@ -21,7 +21,7 @@ namespace {
 /// The half-resolution image the first stage looks at.
 cv::Mat Half(const cv::Mat& image) { return internal::BlockMean(image, 2); }
 
-struct View {
+struct CropView {
   std::shared_ptr<const CheckerboardTarget> board;
   cv::Mat image;
   std::vector<Eigen::Vector2d> truth;  // true pixel of every inner corner, by id
@@ -31,11 +31,11 @@ struct View {
 };
 
 /// METRIC's 4 x 3 board, seen obliquely with 30 px squares.
-View ObliqueView(std::uint64_t seed, double blur_px = 0.75, double noise = 2.0) {
+CropView CropObliqueView(std::uint64_t seed, double blur_px = 0.75, double noise = 2.0) {
   const int width = 1920, height = 1080;
   const double f = 0.9 * width;
   const Camera camera = test::MakeTestCamera(width, height, f, test::MildDistortion());
-  View view;
+  CropView view;
   view.board = std::make_shared<const CheckerboardTarget>(4, 3, 0.05);
   const Eigen::Isometry3d T_cam_target =
       test::BoardPose(*view.board, f * 0.05 / 30.0, 0.4, 0.8, {1, 1}, {0.2, -0.1});
@@ -55,7 +55,7 @@ View ObliqueView(std::uint64_t seed, double blur_px = 0.75, double noise = 2.0) 
 }  // namespace
 
 TEST_CASE("Grid patches: on the board's corners, none in clutter", "[checkerboard][cascade]") {
-  const View view = ObliqueView(3);
+  const CropView view = CropObliqueView(3);
   internal::GridPatchOptions options;
   const auto patches = internal::FindGridPatches(
       internal::FindSaddlePoints(Half(view.image), internal::SaddleRegionOptions{}), options);
@@ -97,7 +97,7 @@ TEST_CASE("Saddle points: the local maxima of -det(H) that cv::Sobel's derivativ
   // The saddle search computes the Sobel derivatives, the strength and the
   // maxima itself, pixel by pixel; here the same from OpenCV's whole-image
   // operations, on a board among clutter and on clutter alone.
-  const View view = ObliqueView(5);
+  const CropView view = CropObliqueView(5);
   const Camera camera = test::MakeTestCamera(1920, 1080, 0.9 * 1920, test::MildDistortion());
   Eigen::Isometry3d behind_camera = Eigen::Isometry3d::Identity();
   behind_camera.translation() = Eigen::Vector3d(0, 0, -1);
@@ -142,7 +142,7 @@ TEST_CASE("Grid refinement: the same points from whichever grid the search retur
           "[checkerboard][cascade]") {
   // A crop and the whole image give OpenCV's search different grids to start
   // from (up to a pixel or so apart); the refined corners must not follow.
-  const View view = ObliqueView(5, 1.5, 8.0);
+  const CropView view = CropObliqueView(5, 1.5, 8.0);
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> shift(-1.5, 1.5);
   std::vector<std::vector<cv::Point2f>> results;
@@ -175,7 +175,7 @@ TEST_CASE("Checkerboard: a board found in a crop has the points the whole image 
           "[checkerboard][cascade]") {
   // The detector searches the crop around the patches first; the same board
   // pasted into a blank image of the crop's size is searched whole there.
-  const View view = ObliqueView(9);
+  const CropView view = CropObliqueView(9);
   const auto found = MakeDetector(view.board)->Detect(view.image);
   REQUIRE(found);
   cv::Rect box = cv::boundingRect(std::vector<cv::Point2f>{cv::Point2f(
@@ -205,7 +205,7 @@ TEST_CASE("Grid refinement: a grid shifted by one line is told from one that is 
   // OpenCV's search sometimes returns a board's grid shifted by one line onto
   // the ends of its outer squares; the slower accurate search mends that, and
   // is run only where the grid less one outer line is a board's.
-  const View view = ObliqueView(11);
+  const CropView view = CropObliqueView(11);
   const int cols = view.board->cols(), rows = view.board->rows();
   const int wide = cols + 2;  // view.extended runs from corner -1 to cols (rows)
   // The grid of cols x rows extended corners starting at corner (i0, j0).

@@ -35,15 +35,15 @@ Eigen::Vector2d RotatedPixel(const Eigen::Vector2d& uv, const cv::Size& size, in
 }
 
 /// The image and the true corner pixels, turned by 0, 90, 180 or 270 degrees.
-struct View {
+struct OrientationView {
   cv::Mat image;
   std::vector<Eigen::Vector2d> truth;  ///< by id
 };
 
-std::vector<View> TurnedViews(const cv::Mat& image, const std::vector<Eigen::Vector2d>& truth) {
-  std::vector<View> views{{image, truth}};
+std::vector<OrientationView> TurnedViews(const cv::Mat& image, const std::vector<Eigen::Vector2d>& truth) {
+  std::vector<OrientationView> views{{image, truth}};
   for (int code : {cv::ROTATE_90_CLOCKWISE, cv::ROTATE_180, cv::ROTATE_90_COUNTERCLOCKWISE}) {
-    View view;
+    OrientationView view;
     cv::rotate(image, view.image, code);
     for (const auto& uv : truth) view.truth.push_back(RotatedPixel(uv, image.size(), code));
     views.push_back(view);
@@ -100,7 +100,7 @@ void CheckIdsFollowTheBoard(int cols, int rows, const std::vector<double>& in_pl
     const cv::Mat image = RenderView(camera, *board, T_cam_target, options);
     const auto truth = TruePixels(camera, *board, T_cam_target);
     int turn = 0;
-    for (const View& view : TurnedViews(image, truth)) {
+    for (const OrientationView& view : TurnedViews(image, truth)) {
       INFO(cols << " x " << rows << " board turned " << in_plane_deg
                 << " deg in plane, image turned " << 90 * turn++ << " deg");
       const auto detection = detector->Detect(view.image);
@@ -138,7 +138,7 @@ TEST_CASE("Square checkerboard: quarter turns resolved, the 180-degree turn cons
     options.seed = ++seed;
     const cv::Mat image = RenderView(camera, *board, T_cam_target, options);
     int turn = 0;
-    for (const View& view : TurnedViews(image, TruePixels(camera, *board, T_cam_target))) {
+    for (const OrientationView& view : TurnedViews(image, TruePixels(camera, *board, T_cam_target))) {
       INFO("board turned " << in_plane_deg << " deg in plane, image turned " << 90 * turn++
                            << " deg");
       const auto detection = detector->Detect(view.image);

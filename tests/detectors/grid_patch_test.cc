@@ -60,12 +60,12 @@ bool PatchInImage(const cv::Mat& image, int rows) {
 
 TEST_CASE("Grid patch: found on hard views of boards, which the detector still finds",
           "[checkerboard][cascade]") {
-  struct Case {
+  struct PatchCase {
     const char* what;
     int cols, rows;
     double square_px, blur_px, noise, tilt_rad, in_plane_rad;
   };
-  const Case cases[] = {
+  const PatchCase cases[] = {
       {"small squares", 7, 6, 10, 0.7, 2, 0.2, 0.3},
       {"blurred and noisy", 7, 6, 30, 2.0, 8, 0.3, 0.5},
       {"seen at 60 degrees", 7, 6, 40, 1.0, 2, 1.05, 0.4},
@@ -76,7 +76,7 @@ TEST_CASE("Grid patch: found on hard views of boards, which the detector still f
   const double f = 0.9 * width;
   const Camera camera = test::MakeTestCamera(width, height, f, test::MildDistortion());
   std::uint64_t seed = 40;
-  for (const Case& c : cases) {
+  for (const PatchCase& c : cases) {
     INFO(c.what);
     RenderOptions options;
     options.blur_sigma_px = c.blur_px;
@@ -133,12 +133,12 @@ TEST_CASE("Grid lattice: the patches of a board seen whole grow into all its inn
   // Among them views as oblique as the 37 of METRIC's medium cell that
   // OpenCV's sector detector did not find (squares a few pixels across one
   // way), which the detector now finds from the lattice.
-  struct Case {
+  struct PatchCase {
     const char* what;
     int cols, rows;
     double square_px, tilt_rad, in_plane_rad;
   };
-  const Case cases[] = {
+  const PatchCase cases[] = {
       {"head-on", 7, 6, 30, 0.1, 0.3},
       {"seen at 60 degrees", 7, 6, 40, 1.05, 0.4},
       {"METRIC's 4 x 3 board at 70 degrees", 4, 3, 45, 1.22, 1.3},
@@ -147,7 +147,7 @@ TEST_CASE("Grid lattice: the patches of a board seen whole grow into all its inn
   const int width = 1920, height = 1080;
   const double f = 0.9 * width;
   const Camera camera = test::MakeTestCamera(width, height, f, test::MildDistortion());
-  for (const Case& c : cases) {
+  for (const PatchCase& c : cases) {
     INFO(c.what);
     RenderOptions options;
     options.seed = 7;

@@ -33,16 +33,16 @@ int RegionHolding(const std::vector<internal::SaddleRegion>& regions,
 }  // namespace
 
 TEST_CASE("Saddle regions hold the inner corners of rendered boards", "[checkerboard]") {
-  struct Case {
+  struct SaddleCase {
     int width, height;
     double square_px, blur_px, tilt_rad;
   };
   // Squares of 10 px (5 px in the half-resolution image searched) to 40 px,
   // head-on and seen at 60°.
-  const Case cases[] = {
+  const SaddleCase cases[] = {
       {1920, 1080, 10, 1.0, 0.2}, {1280, 720, 30, 0.7, 0.3}, {1920, 1080, 40, 1.0, 1.05}};
   std::uint64_t seed = 7;
-  for (const Case& c : cases) {
+  for (const SaddleCase& c : cases) {
     const double f = 0.9 * c.width;
     const Camera camera = test::MakeTestCamera(c.width, c.height, f, test::MildDistortion());
     auto board = std::make_shared<const CheckerboardTarget>(7, 6, 0.03);

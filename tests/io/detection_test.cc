@@ -20,7 +20,7 @@ constexpr int kCols = 5, kRows = 4, kSquarePx = 24, kWidth = 240, kHeight = 200;
 
 // A dataset of `num_poses` poses × 2 cameras whose images are written by the
 // caller; image paths are dir/<camera>/<pose>.png.
-Dataset MakeDataset(const std::string& dir, int num_poses) {
+Dataset MakeDetectionDataset(const std::string& dir, int num_poses) {
   Dataset d;
   TargetSpec spec;
   spec.type = "checkerboard";
@@ -63,7 +63,7 @@ void WriteBoardImages(const Dataset& d, bool blank_pose1_camB) {
 
 TEST_CASE("DetectAll finds the board in every view, in pose then camera order", "[io][detect]") {
   const std::string dir = test::TempDir("detect_all");
-  Dataset d = MakeDataset(dir, 4);
+  Dataset d = MakeDetectionDataset(dir, 4);
   WriteBoardImages(d, true);
   for (int threads : {1, 3}) {
     std::vector<std::pair<std::size_t, std::size_t>> progress;
@@ -130,7 +130,7 @@ void RequireDetectError(Dataset* d, const std::string& file, const std::string& 
 
 TEST_CASE("DetectAll: a missing image is an input error naming it", "[io][detect][bad]") {
   const std::string dir = test::TempDir("detect_missing");
-  Dataset d = MakeDataset(dir, 3);
+  Dataset d = MakeDetectionDataset(dir, 3);
   WriteBoardImages(d, false);
   const std::string missing = d.poses[2].images.at("camA");
   std::filesystem::remove(missing);
@@ -139,7 +139,7 @@ TEST_CASE("DetectAll: a missing image is an input error naming it", "[io][detect
 
 TEST_CASE("DetectAll: an unreadable image is an input error naming it", "[io][detect][bad]") {
   const std::string dir = test::TempDir("detect_garbage");
-  Dataset d = MakeDataset(dir, 3);
+  Dataset d = MakeDetectionDataset(dir, 3);
   WriteBoardImages(d, false);
   const std::string garbage = d.poses[1].images.at("camB");
   test::WriteText(garbage, "this is not a PNG file, just bytes with a .png name\n");
@@ -149,7 +149,7 @@ TEST_CASE("DetectAll: an unreadable image is an input error naming it", "[io][de
 TEST_CASE("DetectAll: an image of the wrong size is an input error naming it",
           "[io][detect][bad]") {
   const std::string dir = test::TempDir("detect_size");
-  Dataset d = MakeDataset(dir, 3);
+  Dataset d = MakeDetectionDataset(dir, 3);
   WriteBoardImages(d, false);
   const std::string wrong = d.poses[0].images.at("camB");
   REQUIRE(cv::imwrite(wrong, cv::Mat(kHeight, kWidth + 1, CV_8UC1, cv::Scalar(0))));

@@ -15,7 +15,7 @@ using nlohmann::json;
 
 // The InputError a callable throws; fails the test when it throws none.
 template <typename F>
-InputError ErrorOf(F&& f) {
+InputError InputErrorFrom(F&& f) {
   try {
     f();
   } catch (const InputError& e) {
@@ -36,35 +36,35 @@ TEST_CASE("JsonReader getters name the path and what was expected", "[io][json]"
   CHECK(root.Key("i").Int(1) == 4);
   CHECK(root.Key("f").Int(1) == 4);
 
-  InputError e = ErrorOf([&] { root.Key("h").Int(1); });
+  InputError e = InputErrorFrom([&] { root.Key("h").Int(1); });
   CHECK(e.file() == "f.json");
   CHECK(e.json_path() == "/h");
   CHECK_THAT(e.what(), Contains("f.json: at /h: expected an integer >= 1, got the number 4.5"));
 
-  e = ErrorOf([&] { root.Key("s").Number(); });
+  e = InputErrorFrom([&] { root.Key("s").Number(); });
   CHECK(e.json_path() == "/s");
   CHECK_THAT(e.what(), Contains("expected a finite number, got the string \"nan\""));
 
-  e = ErrorOf([&] { root.Key("neg").Positive(); });
+  e = InputErrorFrom([&] { root.Key("neg").Positive(); });
   CHECK_THAT(e.what(), Contains("at /neg: expected a positive number"));
 
-  e = ErrorOf([&] { root.Key("big").Int(0, 10); });
+  e = InputErrorFrom([&] { root.Key("big").Int(0, 10); });
   CHECK_THAT(e.what(), Contains("expected an integer between 0 and 10"));
 
-  e = ErrorOf([&] { root.Key("list").Numbers(); });
+  e = InputErrorFrom([&] { root.Key("list").Numbers(); });
   CHECK(e.json_path() == "/list/2");
 
-  e = ErrorOf([&] { root.Key("missing").Matrix4(); });
+  e = InputErrorFrom([&] { root.Key("missing").Matrix4(); });
   CHECK(e.json_path() == "/missing");
   CHECK_THAT(e.what(), Contains("missing key; expected a 4x4 array of numbers"));
 
-  e = ErrorOf([&] { root.Key("m").Matrix4(); });
+  e = InputErrorFrom([&] { root.Key("m").Matrix4(); });
   CHECK(e.json_path() == "/m");
   CHECK_THAT(e.what(), Contains("expected a 4x4 array of numbers"));
   CHECK_THAT(e.what(), Contains("got an array of 3"));
 
   // RFC 6901: '/' and '~' in keys are escaped in the path.
-  e = ErrorOf([&] { root.Key("a/b").Key("c~d").Number(); });
+  e = InputErrorFrom([&] { root.Key("a/b").Key("c~d").Number(); });
   CHECK(e.json_path() == "/a~1b/c~0d");
   CHECK(JsonPointerEscape("x/y~z") == "x~1y~0z");
 }
@@ -72,7 +72,7 @@ TEST_CASE("JsonReader getters name the path and what was expected", "[io][json]"
 TEST_CASE("RejectUnknownKeys suggests the key that was probably meant", "[io][json]") {
   const json doc = json::parse(R"({"id": "1", "T_base_eee": 1})");
   const JsonReader root(&doc, "f.json", "/poses/0");
-  const InputError e = ErrorOf([&] { root.RejectUnknownKeys({"id", "T_base_ee", "images"}); });
+  const InputError e = InputErrorFrom([&] { root.RejectUnknownKeys({"id", "T_base_ee", "images"}); });
   CHECK(e.json_path() == "/poses/0/T_base_eee");
   CHECK_THAT(e.what(), Contains("unknown key 'T_base_eee' (did you mean 'T_base_ee'?)"));
   CHECK_THAT(e.what(), Contains("expected only: id, T_base_ee, images"));
@@ -87,7 +87,7 @@ TEST_CASE("Rigid accepts a rotation, rejects a non-rigid one unless reorthonorma
 
   doc[0][0] = doc[0][0].get<double>() + 1e-4;  // rotation off orthonormal by ~1e-4
   const JsonReader skewed(&doc, "f.json", "/T");
-  const InputError e = ErrorOf([&] { skewed.Rigid(false); });
+  const InputError e = InputErrorFrom([&] { skewed.Rigid(false); });
   CHECK(e.json_path() == "/T");
   CHECK_THAT(e.what(), Contains("off orthonormal"));
   const Eigen::Isometry3d fixed = skewed.Rigid(true);
@@ -108,13 +108,13 @@ TEST_CASE("TargetSpec converts both ways, other value types are rejected", "[io]
         R"({"type":"charuco","dictionary":"DICT_5X5_100","square_size_m":0.04,"squares":[5,7]})");
 
   const json bad = json::parse(R"({"type": "checkerboard", "inner_corners": {"cols": 4}})");
-  const InputError e = ErrorOf([&] { TargetSpecFromJson(JsonReader(&bad, "f.json", "/target")); });
+  const InputError e = InputErrorFrom([&] { TargetSpecFromJson(JsonReader(&bad, "f.json", "/target")); });
   CHECK(e.json_path() == "/target/inner_corners");
   CHECK_THAT(e.what(), Contains("expected a number, a string or an array of numbers"));
 
   const json untyped = json::parse(R"({"inner_corners": [4, 3]})");
   const InputError e2 =
-      ErrorOf([&] { TargetSpecFromJson(JsonReader(&untyped, "f.json", "/target")); });
+      InputErrorFrom([&] { TargetSpecFromJson(JsonReader(&untyped, "f.json", "/target")); });
   CHECK(e2.json_path() == "/target/type");
   CHECK_THAT(e2.what(), Contains("missing key; expected the target type"));
 }
@@ -141,27 +141,27 @@ TEST_CASE("DumpJson is readable and round-trips every double exactly", "[io][jso
 TEST_CASE("ReadJsonFile reports missing files, syntax errors, overflow and duplicate keys",
           "[io][json]") {
   const std::string dir = test::TempDir("json_util_read");
-  InputError e = ErrorOf([&] { ReadJsonFile(dir + "/nope.json"); });
+  InputError e = InputErrorFrom([&] { ReadJsonFile(dir + "/nope.json"); });
   CHECK(e.file() == dir + "/nope.json");
   CHECK_THAT(e.what(), Contains("file does not exist"));
 
-  e = ErrorOf([&] { ReadJsonFile(dir); });
+  e = InputErrorFrom([&] { ReadJsonFile(dir); });
   CHECK_THAT(e.what(), Contains("is a folder"));
 
   test::WriteText(dir + "/syntax.json", "{\n  \"a\": [1,\n   2,,]\n}\n");
-  e = ErrorOf([&] { ReadJsonFile(dir + "/syntax.json"); });
+  e = InputErrorFrom([&] { ReadJsonFile(dir + "/syntax.json"); });
   CHECK(e.file() == dir + "/syntax.json");
   CHECK_THAT(e.what(), Contains("malformed JSON: parse error at line 3, column"));
 
   test::WriteText(dir + "/huge.json", "{\n  \"a\": [1,\n     -1e999]\n}\n");
-  e = ErrorOf([&] { ReadJsonFile(dir + "/huge.json"); });
+  e = InputErrorFrom([&] { ReadJsonFile(dir + "/huge.json"); });
   CHECK_THAT(e.what(), Contains("at line 3, column 6"));
   CHECK_THAT(e.what(),
              Contains("the number -1e999 does not fit a double; expected a finite number"));
 
   test::WriteText(dir + "/dup.json",
                   R"({"poses": [{"id": "1"}, {"id": "2", "T_base_ee": 1, "id": "3"}]})");
-  e = ErrorOf([&] { ReadJsonFile(dir + "/dup.json"); });
+  e = InputErrorFrom([&] { ReadJsonFile(dir + "/dup.json"); });
   CHECK(e.file() == dir + "/dup.json");
   CHECK(e.json_path() == "/poses/1/id");
   CHECK_THAT(e.what(), Contains("duplicate key 'id'"));

@@ -31,7 +31,7 @@ PlanCell SmallCell() {
   return cell;
 }
 
-std::string ErrorOf(const std::string& path) {
+std::string PlanCellErrorOf(const std::string& path) {
   try {
     LoadPlanCell(path);
   } catch (const InputError& e) {
@@ -77,7 +77,7 @@ TEST_CASE("A cell file's mistakes are named with their path", "[plan][io]") {
     REQUIRE(at != std::string::npos);
     text.replace(at, from.size(), to);
     test::WriteText(dir + "/bad.json", text);
-    return ErrorOf(dir + "/bad.json");
+    return PlanCellErrorOf(dir + "/bad.json");
   };
   CHECK_THAT(with("\"intrinsics\"", "\"intrinsix\""), Catch::Contains("/cameras/0"));
   CHECK_THAT(with("\"min\": [-0.5", "\"min\": [0.7"),

@@ -19,7 +19,7 @@ namespace {
 using Catch::Matchers::Contains;
 
 // 120° about (1, 1, 1)/√3: x → y → z → x; Rz(90°)·Rx(90°).
-Eigen::Matrix3d Cycle() {
+Eigen::Matrix3d AxisCycle() {
   Eigen::Matrix3d R;
   R << 0, 0, 1, 1, 0, 0, 0, 1, 0;
   return R;
@@ -33,7 +33,7 @@ void CheckPose(const PoseRow& row, const std::string& id, const Eigen::Vector3d&
   CHECK((row.T_base_ee.rotation() - R).cwiseAbs().maxCoeff() < 1e-12);
 }
 
-std::string ErrorOf(const std::string& path, const PoseListOptions& options) {
+std::string PoseListErrorOf(const std::string& path, const PoseListOptions& options) {
   try {
     ReadPoseList(path, options);
   } catch (const InputError& e) {
@@ -53,7 +53,7 @@ TEST_CASE("CSV pose lists with a rotation vector, KUKA A B C or roll pitch yaw",
       "ID, X, Y, Z, RX, RY, RZ\n0001,400,-100,900,0,0,0\n0002,500,0,800,%.17g,%.17g,%.17g\n", axis,
       axis, axis);
   test::WriteText(dir + "/ur.csv", rotvec);
-  // Cycle() is Rz(90)·Ry(0)·Rx(90): KUKA lists the z angle first, ROS last.
+  // AxisCycle() is Rz(90)·Ry(0)·Rx(90): KUKA lists the z angle first, ROS last.
   test::WriteText(dir + "/kuka.csv",
                   "id,x,y,z,a,b,c\n0001,400,-100,900,0,0,0\n0002,500,0,800,90,0,90\n");
   test::WriteText(dir + "/ros.csv",
@@ -65,16 +65,16 @@ TEST_CASE("CSV pose lists with a rotation vector, KUKA A B C or roll pitch yaw",
     const std::vector<PoseRow> rows = ReadPoseList(dir + "/" + name, mm);
     REQUIRE(rows.size() == 2);
     CheckPose(rows[0], "0001", {0.4, -0.1, 0.9}, Eigen::Matrix3d::Identity());
-    CheckPose(rows[1], "0002", {0.5, 0, 0.8}, Cycle());
+    CheckPose(rows[1], "0002", {0.5, 0, 0.8}, AxisCycle());
     CHECK(rows[1].line == 3);
   }
   // Another header, named by --rotation: the columns count, not their names.
   test::WriteText(dir + "/own.csv", "pose,tx,ty,tz,A_deg,B_deg,C_deg\n7,0.5,0,0.8,90,0,90\n");
   PoseListOptions kuka;
   kuka.rotation = CsvRotation::kKukaAbc;
-  CheckPose(ReadPoseList(dir + "/own.csv", kuka).front(), "7", {0.5, 0, 0.8}, Cycle());
+  CheckPose(ReadPoseList(dir + "/own.csv", kuka).front(), "7", {0.5, 0, 0.8}, AxisCycle());
   CHECK_THAT(
-      ErrorOf(dir + "/own.csv", {}),
+      PoseListErrorOf(dir + "/own.csv", {}),
       Contains("line 1: expected one of the headers 'id,x,y,z,qx,qy,qz,qw' (quaternion x y z w), "
                "'id,x,y,z,rx,ry,rz' (rotation vector in radians), 'id,x,y,z,a,b,c' (KUKA A B C in "
                "degrees), "
@@ -83,14 +83,14 @@ TEST_CASE("CSV pose lists with a rotation vector, KUKA A B C or roll pitch yaw",
                "the form for other headers), got 'pose,tx,ty,tz,A_deg,B_deg,C_deg'"));
   PoseListOptions quaternion;
   quaternion.rotation = CsvRotation::kQuaternion;
-  CHECK_THAT(ErrorOf(dir + "/own.csv", quaternion),
+  CHECK_THAT(PoseListErrorOf(dir + "/own.csv", quaternion),
              Contains("line 1: expected a header of 8 columns for --rotation quaternion "
                       "(id,x,y,z,qx,qy,qz,qw), got 7"));
   test::WriteText(dir + "/short.csv", "id,x,y,z,rx,ry,rz\n1,0.5,0,0.8,0,0\n");
-  CHECK_THAT(ErrorOf(dir + "/short.csv", {}),
+  CHECK_THAT(PoseListErrorOf(dir + "/short.csv", {}),
              Contains("line 2: expected 7 comma-separated fields (id,x,y,z,rx,ry,rz), got 6"));
   test::WriteText(dir + "/nan.csv", "id,x,y,z,a,b,c\n1,0.5,0,0.8,0,nan,0\n");
-  CHECK_THAT(ErrorOf(dir + "/nan.csv", {}),
+  CHECK_THAT(PoseListErrorOf(dir + "/nan.csv", {}),
              Contains("line 2: column b: expected a finite number, got 'nan'"));
   for (const auto& [name, rotation] :
        {std::pair<const char*, CsvRotation>{"quaternion", CsvRotation::kQuaternion},
@@ -135,12 +135,12 @@ TEST_CASE("YAML lists of ROS geometry_msgs/Pose, PoseArray and PoseStamped", "[i
   rows = ReadPoseList(dir + "/array.yml", mm);
   REQUIRE(rows.size() == 2);
   CheckPose(rows[0], "0001", {0.4, -0.1, 0.9}, Eigen::Matrix3d::Identity());
-  CheckPose(rows[1], "0002", {0.5, 0, 0.8}, Cycle());
+  CheckPose(rows[1], "0002", {0.5, 0, 0.8}, AxisCycle());
 
   test::WriteText(dir + "/stamped.yaml",
                   "- header: {frame_id: base_link}\n  pose:\n    position: {x: 0.5, y: 0, z: 0.8}\n"
                   "    orientation: {x: 0.5, y: 0.5, z: 0.5, w: 0.5}\n");
-  CheckPose(ReadPoseList(dir + "/stamped.yaml", {}).front(), "0001", {0.5, 0, 0.8}, Cycle());
+  CheckPose(ReadPoseList(dir + "/stamped.yaml", {}).front(), "0001", {0.5, 0, 0.8}, AxisCycle());
 
   auto require_error = [&](const std::string& yaml, const std::string& path,
                            const std::string& expected) {
@@ -162,13 +162,13 @@ TEST_CASE("YAML lists of ROS geometry_msgs/Pose, PoseArray and PoseStamped", "[i
       "/0/quaternion", "quaternion");
   require_error("poses: []\n", "/poses", "no poses");
   test::WriteText(dir + "/bad.yaml", "a: 1\n");
-  CHECK_THAT(ErrorOf(dir + "/bad.yaml", {}),
+  CHECK_THAT(PoseListErrorOf(dir + "/bad.yaml", {}),
              Contains("bad.yaml: expected a list of geometry_msgs/Pose"));
 }
 
 // An error about the whole file: "<file>: <what>".
 template <typename Load>
-void RequireFileError(const std::string& file, const std::string& expected, Load&& load) {
+void RequirePoseListError(const std::string& file, const std::string& expected, Load&& load) {
   try {
     load();
   } catch (const InputError& e) {
@@ -186,7 +186,7 @@ TEST_CASE("A pose list whose reach says the unit is wrong is refused, naming the
   test::WriteText(dir + "/poses.csv",
                   "id,x,y,z,qx,qy,qz,qw\n1,400,100,900,0,0,0,1\n2,450,-20,880,0,0,0,1\n");
   const std::vector<PoseRow> metres = ReadPoseList(dir + "/poses.csv", {});
-  RequireFileError(
+  RequirePoseListError(
       dir + "/poses.csv",
       "pose '1' (line 2) is 989.9 m from the robot base with x, y, z read as metres, "
       "farther than a robot reaches (10 m); if they are millimetres, use --translation-unit mm",
@@ -200,7 +200,7 @@ TEST_CASE("A pose list whose reach says the unit is wrong is refused, naming the
   // Metres read as millimetres: 0.99 m becomes 0.99 mm.
   test::WriteText(dir + "/metres.csv",
                   "id,x,y,z,qx,qy,qz,qw\n1,0.4,0.1,0.9,0,0,0,1\n2,0.45,-0.02,0.88,0,0,0,1\n");
-  RequireFileError(
+  RequirePoseListError(
       dir + "/metres.csv",
       "every pose is within 10 mm of the robot base with x, y, z read as millimetres (the "
       "farthest, pose '1' (line 2), 0.9899 mm); if they are metres, use --translation-unit m",

@@ -13,7 +13,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-CalibrationResult SampleResult(Setup setup) {
+CalibrationResult SampleJsonResult(Setup setup) {
   CalibrationResult r;
   r.setup = setup;
   r.method = Method::kJoint;
@@ -89,7 +89,7 @@ CalibrationResult SampleResult(Setup setup) {
 TEST_CASE("Result files round trip exactly, both setups", "[result]") {
   const std::string dir = test::TempDir("result_round_trip");
   for (Setup setup : {Setup::kEyeToHand, Setup::kEyeInHand}) {
-    const CalibrationResult r = SampleResult(setup);
+    const CalibrationResult r = SampleJsonResult(setup);
     const std::string path = dir + "/result.json";
     SaveResult(r, path);
     const std::string text = test::ReadText(path);
@@ -147,7 +147,7 @@ TEST_CASE("Result files round trip exactly, both setups", "[result]") {
 TEST_CASE("Broken result files are rejected with file and path", "[result]") {
   const std::string dir = test::TempDir("result_bad");
   const std::string path = dir + "/result.json";
-  SaveResult(SampleResult(Setup::kEyeToHand), path);
+  SaveResult(SampleJsonResult(Setup::kEyeToHand), path);
   const std::string good = test::ReadText(path);
   auto expect_error = [&](const std::string& text, const std::string& needle) {
     test::WriteText(path, text);
@@ -178,7 +178,7 @@ TEST_CASE("Broken result files are rejected with file and path", "[result]") {
 TEST_CASE("Result files carry each warning's text and its details, in one order", "[result]") {
   const std::string dir = test::TempDir("result_warnings");
   const std::string path = dir + "/result.json";
-  SaveResult(SampleResult(Setup::kEyeToHand), path);
+  SaveResult(SampleJsonResult(Setup::kEyeToHand), path);
   const nlohmann::json json = nlohmann::json::parse(test::ReadText(path));
   CHECK(json["warnings"] == nlohmann::json({"camera 'cam1' never saw the target: not calibrated",
                                             "view of pose '0001' by camera 'cam0' left out: fewer than 4 points"}));
@@ -214,7 +214,7 @@ TEST_CASE("Result files carry each warning's text and its details, in one order"
 
 TEST_CASE("Result files keep the diagnostics, the options and where they came from", "[result]") {
   const std::string dir = test::TempDir("result_diagnostics");
-  CalibrationResult r = SampleResult(Setup::kEyeInHand);
+  CalibrationResult r = SampleJsonResult(Setup::kEyeInHand);
   CameraResult& cam = r.cameras[0];
   cam.max_px = 1.25;
   cam.outliers = 2;

@@ -16,7 +16,7 @@ using namespace handeye;
 namespace {
 
 /// Mean camera position error (mm) of a result against the simulator's truth.
-double MeanErrorMm(const std::string& result_path, const std::string& truth_path) {
+double MeanCameraErrorMm(const std::string& result_path, const std::string& truth_path) {
   return EvaluateAgainstTruth(LoadResult(result_path), LoadGroundTruth(truth_path)).mean_translation_mm;
 }
 
@@ -59,8 +59,8 @@ TEST_CASE("calibrate a rendered cell whose robot records of 4 of 24 poses are sw
   obs["observations"] = kept;
   test::WriteText(dir + "/clean.json", obs.dump());
   REQUIRE(test::RunHandeye("calibrate " + dir + "/clean.json -o " + dir + "/clean_result.json", &out) == 0);
-  const double error = MeanErrorMm(dir + "/result.json", dir + "/sim/ground_truth.json");
-  const double clean_error = MeanErrorMm(dir + "/clean_result.json", dir + "/sim/ground_truth.json");
+  const double error = MeanCameraErrorMm(dir + "/result.json", dir + "/sim/ground_truth.json");
+  const double clean_error = MeanCameraErrorMm(dir + "/clean_result.json", dir + "/sim/ground_truth.json");
   INFO("error " << error << " mm, without the bad views " << clean_error << " mm");
   CHECK(error <= 1.2 * clean_error);
 }
@@ -98,5 +98,5 @@ TEST_CASE("calibrate a rendered cell with a see-through target", "[cli][robust]"
   }
   CHECK(mirrored >= 1);
   CHECK(front_dropped <= 1);
-  CHECK(MeanErrorMm(dir + "/result.json", dir + "/sim/ground_truth.json") < 0.2);
+  CHECK(MeanCameraErrorMm(dir + "/result.json", dir + "/sim/ground_truth.json") < 0.2);
 }
