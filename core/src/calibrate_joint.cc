@@ -325,24 +325,19 @@ std::optional<RobotPrior> ConsideredRobot(Calibration* c) {
   considered.sigma_rad = c->considered_robot->CovarianceSigmaRad();
   considered.settled_sigma_m = considered.settled_sigma_rad = 0;
   considered.settled_dof_scale = 1;
-  if (!RobotSigmaPlausible(considered.sigma_m, considered.sigma_rad)) {
-    std::ostringstream note;
-    note.precision(3);
-    note << "the robot poses are taken as exact, and the cameras' sigma does not carry the robot "
-            "error the modelled solve showed (σ "
-         << considered.sigma_m * 1000.0 << " mm and " << considered.sigma_rad * 180.0 / M_PI
-         << " deg per axis): more than any industrial robot's, so the misfit it took up is not "
-            "the robot's";
-    c->result.notes.push_back(note.str());
-    return std::nullopt;
-  }
+  const bool plausible = RobotSigmaPlausible(considered.sigma_m, considered.sigma_rad);
   std::ostringstream note;
   note.precision(3);
-  note << "the robot poses are taken as exact; the cameras' sigma carries the robot's error the "
-          "modelled solve showed (σ "
-       << considered.sigma_m * 1000.0 << " mm and " << considered.sigma_rad * 180.0 / M_PI
-       << " deg per axis) as an uncertain input";
+  note << "the robot poses are taken as exact"
+       << (plausible ? "; the cameras' sigma carries the robot's error"
+                     : ", and the cameras' sigma does not carry the robot error")
+       << " the modelled solve showed (σ " << considered.sigma_m * 1000.0 << " mm and "
+       << considered.sigma_rad * 180.0 / M_PI << " deg per axis)"
+       << (plausible ? " as an uncertain input"
+                     : ": more than any industrial robot's, so the misfit it took up is not the "
+                       "robot's");
   c->result.notes.push_back(note.str());
+  if (!plausible) return std::nullopt;
   return considered;
 }
 
