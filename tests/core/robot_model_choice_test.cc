@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <utility>
 
 #include "handeye/core/calibration.h"
@@ -20,18 +21,25 @@ using namespace handeye;
 
 namespace {
 
+/// A cell of the simulator with the robot's pose error (mm, and deg about a random axis).
+SceneOptions CellWithRobotError(const std::string& cell, int cameras, int poses, std::uint64_t seed,
+                                double robot_mm, double robot_deg) {
+  SceneOptions options;
+  options.cell = cell;
+  options.num_cameras = cameras;
+  options.num_poses = poses;
+  options.seed = seed;
+  options.pose_noise_mm = robot_mm;
+  options.pose_noise_deg = robot_deg;
+  return options;
+}
+
 // A medium cell of 4 cameras and 30 poses, corners projected with 0.1 px of
 // noise: at a robot error of 0.1 mm / 0.01° its chain residuals are only a
 // little above PnP's.
 SyntheticScene RobotModelScene(std::uint64_t seed, double robot_mm, double robot_deg) {
-  SceneOptions options;
-  options.cell = "medium";
-  options.num_cameras = 4;
-  options.num_poses = 30;
-  options.seed = seed;
-  options.pose_noise_mm = robot_mm;
-  options.pose_noise_deg = robot_deg;
-  return test::ProjectedScene(options, 0.1, 4, seed * 31 + 7);
+  return test::ProjectedScene(CellWithRobotError("medium", 4, 30, seed, robot_mm, robot_deg), 0.1,
+                              4, seed * 31 + 7);
 }
 
 double MeanErrorMm(const Dataset& dataset, const CalibrationOptions& options,
@@ -111,13 +119,7 @@ TEST_CASE(
   double error_sq = 0, sigma_sq = 0;
   int cameras = 0;
   for (const std::uint64_t seed : {2001, 2002, 2003, 2004, 2005, 2006}) {
-    SceneOptions options;
-    options.cell = "large";
-    options.num_cameras = 6;
-    options.num_poses = 30;
-    options.seed = seed;
-    options.pose_noise_mm = 0.3;
-    options.pose_noise_deg = 0.03;
+    SceneOptions options = CellWithRobotError("large", 6, 30, seed, 0.3, 0.03);
     RoughKnowledge rough;
     rough.seed = seed;
     rough.robot_sigma_deg = 0.03 / std::sqrt(3.0);
@@ -200,14 +202,8 @@ TEST_CASE(
   // leave-a-quarter-out spread (bench/leave-out), without it 0.77-1.01.
   for (const std::uint64_t seed : {1, 2, 3}) {
     INFO("seed " << seed);
-    SceneOptions options;
-    options.cell = "medium";
-    options.num_cameras = 1;
-    options.num_poses = 16;
-    options.seed = seed;
-    options.pose_noise_mm = 0.1;
-    options.pose_noise_deg = 0.01;
-    const SyntheticScene scene = test::ProjectedScene(options, 0.2, 4, seed + 11);
+    const SyntheticScene scene =
+        test::ProjectedScene(CellWithRobotError("medium", 1, 16, seed, 0.1, 0.01), 0.2, 4, seed + 11);
     Dataset given = scene.dataset;
     given.cameras[0].params[4] -= 0.2;
     const CalibrationResult result = Calibrate(given, CalibrationOptions{});
