@@ -137,16 +137,17 @@ std::shared_ptr<const Target> MakeTargetFromOptions(const TargetOptions& o, bool
     }
     auto& v = spec.values;
     if (spec.type == "checkerboard") {
-      v["inner_corners"] = o.Given("--board")
-                               ? Counts(ParseTwoCounts("--board", o.board, "COLSxROWS inner corners"))
-                           : metric ? std::vector<double>{kMetricCols, kMetricRows}
-                                    : std::vector<double>{kCheckerCols, kCheckerRows};
+      v["inner_corners"] =
+          o.Given("--board") ? Counts(ParseTwoCounts("--board", o.board, "COLSxROWS inner corners"))
+          : metric           ? std::vector<double>{kMetricCols, kMetricRows}
+                             : std::vector<double>{kCheckerCols, kCheckerRows};
       v["square_size_m"] = o.Given("--square") ? o.square_m
                            : metric            ? kMetricSquareM
                                                : kCheckerSquareM;
     } else if (spec.type == "charuco") {
-      v["squares"] = o.Given("--squares") ? Counts(ParseTwoCounts("--squares", o.squares, "SXxSY squares"))
-                                          : std::vector<double>{kCharucoSquaresX, kCharucoSquaresY};
+      v["squares"] = o.Given("--squares")
+                         ? Counts(ParseTwoCounts("--squares", o.squares, "SXxSY squares"))
+                         : std::vector<double>{kCharucoSquaresX, kCharucoSquaresY};
       v["square_size_m"] = o.Given("--square") ? o.square_m : kCharucoSquareM;
       v["marker_size_m"] = o.Given("--marker") ? o.marker_m : kCharucoMarkerM;
       v["dictionary"] = o.Given("--dictionary") ? o.dictionary : std::string(kCharucoDictionary);

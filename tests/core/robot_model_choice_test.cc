@@ -202,8 +202,8 @@ TEST_CASE(
   // leave-a-quarter-out spread (bench/leave-out), without it 0.77-1.01.
   for (const std::uint64_t seed : {1, 2, 3}) {
     INFO("seed " << seed);
-    const SyntheticScene scene =
-        test::ProjectedScene(CellWithRobotError("medium", 1, 16, seed, 0.1, 0.01), 0.2, 4, seed + 11);
+    const SyntheticScene scene = test::ProjectedScene(
+        CellWithRobotError("medium", 1, 16, seed, 0.1, 0.01), 0.2, 4, seed + 11);
     Dataset given = scene.dataset;
     given.cameras[0].params[4] -= 0.2;
     const CalibrationResult result = Calibrate(given, CalibrationOptions{});
