@@ -102,15 +102,15 @@ constexpr double kModelsAlikeHeldOut = 1.05;
 /// focal length and principal point refined) it won 3 of 8 splits of one
 /// capture, in two within 3 % of the model at the solved poses' σ; there the
 /// cameras ended 3.5 mm from the truth (median), 0.9 mm in the modelled splits.
-/// The same tie costs an exact robot whose given intrinsics are off: on METRIC
-/// as published (principal points 1-3 px off) one split of eight (seed 1)
-/// saw the robot's error clearly, and its model at the solved poses' σ
-/// (0.0661 px) was taken over the exact robot (0.0656 px): the cameras moved
-/// 0.15-0.35 mm, 0.778 mm from the truth against the exact robot's 0.702, and
-/// two cameras' leave-out spread went to 1.64-1.65 of their own σ/√3 (0.83-1.34
-/// with the exact robot taken there). A rule that took the exact robot on such
-/// ties did not change bench/robot-model (14 scenes, 3 seeds) but goes against
-/// the rendered captures above, so it is not made.
+/// The same tie costs an exact robot where the given intrinsics are off, and
+/// there the caller puts the exact robot first (CompareRobotModels): on
+/// METRIC as published (principal points 1-3 px off) one split of eight
+/// (seed 1) saw the robot's error clearly, and its model at the solved poses'
+/// σ (0.0661 px) was taken over the exact robot (0.0656 px): the cameras
+/// moved 0.15-0.35 mm, 0.778 mm from the truth against the exact robot's
+/// 0.702, and two cameras' leave-out spread went to 1.64-1.65 of their own
+/// σ/√3 (0.83-1.34 with the exact robot first). The captures above had their
+/// intrinsics refined, so nothing is checked there and the order stays.
 std::string ModelByHeldOut(const std::vector<ModelCandidate>& candidates,
                            const std::vector<size_t>& preferred);
 
