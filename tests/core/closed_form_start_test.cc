@@ -33,8 +33,6 @@ const Method kClosedForms[] = {Method::kTsai,    Method::kPark,       Method::kH
                                Method::kAndreff, Method::kDaniilidis, Method::kShah,
                                Method::kLi,      Method::kVisp};
 
-const Setup kBothSetups[] = {Setup::kEyeToHand, Setup::kEyeInHand};
-
 /// A rotation of `angle` rad about `axis` (normalised here).
 Eigen::Isometry3d Turn(const Eigen::Vector3d& axis, double angle) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -78,7 +76,7 @@ TEST_CASE("with 0.2 px of detection noise every closed form lands within mm of t
   // less in view of its cameras) 18.6 mm. Rotations: 0.10° and 0.16°, but
   // 0.25° and 0.81° for Tsai, Horaud and Daniilidis, which see only the
   // views within 55° of one (OpenCV 4.6, closed_form.cc).
-  for (const Setup setup : kBothSetups)
+  for (const Setup setup : test::kBothSetups)
     for (const std::uint64_t seed : {4, 5, 6}) {
       const ProblemCell cell(SmallCell(setup, 2, 16, seed), 0.2);
       const bool eye_to_hand = setup == Setup::kEyeToHand;
@@ -140,7 +138,7 @@ TEST_CASE("the mean of rotations spread symmetrically about one is that one", "[
 
 TEST_CASE("one wrong robot record does not move the camera given the target, or the target",
           "[closed_form]") {
-  for (const Setup setup : kBothSetups) {
+  for (const Setup setup : test::kBothSetups) {
     INFO(SetupName(setup));
     ProblemCell cell(SmallCell(setup, 2, 12, 7), 0.0);
     // The robot record of camera 0's first view replaced by another pose's.
@@ -174,7 +172,7 @@ TEST_CASE("one wrong robot record does not move the camera given the target, or 
 
 TEST_CASE("the linear solve over all cameras stays near the shared target under noise",
           "[closed_form]") {
-  for (const Setup setup : kBothSetups) {
+  for (const Setup setup : test::kBothSetups) {
     INFO(SetupName(setup));
     const ProblemCell noisy(SmallCell(setup, 3, 12, 8), 0.2);
     const auto rough = internal::SharedTargetClosedForm(noisy.problem);
@@ -212,7 +210,7 @@ TEST_CASE("the diverse views are led by the first, the next one the farthest tur
 
 TEST_CASE("the joint solve starts from the closed form that explains the views best",
           "[closed_form]") {
-  for (const Setup setup : kBothSetups) {
+  for (const Setup setup : test::kBothSetups) {
     INFO(SetupName(setup));
     const ProblemCell cell(SmallCell(setup, 3, 16, 10), 0.2);
     const internal::Initialisation init = internal::InitialiseJoint(cell.problem);

@@ -9,6 +9,8 @@
 #include <memory>
 #include <utility>
 
+#include "support/distorted_camera.h"
+
 // glog (through Ceres) defines its own CHECK; this file uses Catch's REQUIRE.
 
 using namespace handeye;
@@ -43,12 +45,6 @@ ceres::CostFunction* AutoDiffWithRobot(const Camera& camera, ViewPoints points, 
   const int residuals = 2 * static_cast<int>(points.p_target.size());
   return new ceres::AutoDiffCostFunction<ViewReprojectionWithRobotError, ceres::DYNAMIC, 7, 7, 7>(
       new ViewReprojectionWithRobotError{camera.params, std::move(points), a}, residuals);
-}
-
-Camera TestCamera() {
-  std::string why;
-  return *Camera::Make("cam", 1920, 1080, 1400, 1395, 955, 545, {-0.1, 0.03, 0.001, -0.002, 0.004},
-                       &why);
 }
 
 struct Chain {
@@ -106,7 +102,7 @@ double WorstJacobianError(const ceres::CostFunction& cost, std::vector<PoseParam
 }  // namespace
 
 TEST_CASE("View reprojection gives the exact residuals of the chain", "[cost]") {
-  const Camera camera = TestCamera();
+  const Camera camera = test::DistortedCamera();
   const Chain c;
   std::vector<Eigen::Vector2d> offsets;
   const ViewPoints view = Offsets(camera, c, &offsets);
@@ -134,7 +130,7 @@ TEST_CASE("View reprojection gives the exact residuals of the chain", "[cost]") 
 }
 
 TEST_CASE("The robust residuals square to the per-point Cauchy cost", "[cost]") {
-  const Camera camera = TestCamera();
+  const Camera camera = test::DistortedCamera();
   const Chain c;
   std::vector<Eigen::Vector2d> offsets;
   const ViewPoints view = Offsets(camera, c, &offsets);
@@ -157,7 +153,7 @@ TEST_CASE("The robust residuals square to the per-point Cauchy cost", "[cost]") 
 }
 
 TEST_CASE("Cost functor derivatives agree with central differences", "[cost]") {
-  const Camera camera = TestCamera();
+  const Camera camera = test::DistortedCamera();
   const Chain c;
   std::vector<Eigen::Vector2d> offsets;
   const ViewPoints view = Offsets(camera, c, &offsets);
@@ -210,7 +206,7 @@ double WorstDifference(const ceres::CostFunction& a, const ceres::CostFunction& 
 }
 
 TEST_CASE("Chain-rule derivatives equal autodiff over every parameter", "[cost]") {
-  const Camera camera = TestCamera();
+  const Camera camera = test::DistortedCamera();
   const Chain c;
   std::vector<Eigen::Vector2d> offsets;
   const ViewPoints view = Offsets(camera, c, &offsets);
@@ -228,7 +224,7 @@ TEST_CASE("Chain-rule derivatives equal autodiff over every parameter", "[cost]"
 }
 
 TEST_CASE("A residual of zero keeps finite derivatives under the robust loss", "[cost]") {
-  const Camera camera = TestCamera();
+  const Camera camera = test::DistortedCamera();
   const Chain c;
   ViewPoints view;
   view.p_target = {{0.05, 0.05, 0.0}};
@@ -273,7 +269,7 @@ TEST_CASE("Chain-rule derivatives equal autodiff with every distortion term", "[
 
 TEST_CASE("The cross term is the reprojection term in Y = T_camk_camt · X_t", "[cost]") {
   // The joint solve relies on this to optimise Y_kt instead of T_camk_camt.
-  const Camera camera = TestCamera();
+  const Camera camera = test::DistortedCamera();
   const Chain c;
   std::vector<Eigen::Vector2d> offsets;
   const ViewPoints view = Offsets(camera, c, &offsets);
@@ -301,7 +297,7 @@ TEST_CASE("The cross term is the reprojection term in Y = T_camk_camt · X_t", "
 }
 
 TEST_CASE("The cost with the robot pose as a block: derivatives and values", "[cost]") {
-  const Camera camera = TestCamera();
+  const Camera camera = test::DistortedCamera();
   const Chain c;
   std::vector<Eigen::Vector2d> offsets;
   const ViewPoints view = Offsets(camera, c, &offsets);
@@ -366,7 +362,7 @@ TEST_CASE("With the intrinsics as unknowns, chain-rule derivatives equal autodif
       "rational", 1920, 1080, 1400, 1395, 955, 545,
       {-0.1, 0.03, 0.001, -0.002, 0.004, 0.02, -0.01, 0.005, 0.001, -0.0005, 0.0008, 0.0002}, &why);
   REQUIRE(rational);
-  for (const Camera& camera : {TestCamera(), *rational}) {
+  for (const Camera& camera : {test::DistortedCamera(), *rational}) {
     const Chain c;
     std::vector<Eigen::Vector2d> offsets;
     const ViewPoints view = Offsets(camera, c, &offsets);
@@ -384,7 +380,7 @@ TEST_CASE("With the intrinsics as unknowns, chain-rule derivatives equal autodif
 }
 
 TEST_CASE("The intrinsics derivatives agree with central differences", "[cost][intrinsics]") {
-  const Camera camera = TestCamera();
+  const Camera camera = test::DistortedCamera();
   const Chain c;
   std::vector<Eigen::Vector2d> offsets;
   const ViewPoints view = Offsets(camera, c, &offsets);

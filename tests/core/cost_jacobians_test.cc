@@ -9,19 +9,11 @@
 
 #include "cost_jacobians.h"
 #include "handeye/core/transform.h"
+#include "support/distorted_camera.h"
 
 // In the namespace of what it tests: a using-directive would reach the files a
 // unity build compiles after this one.
 namespace handeye::cost_internal {
-
-namespace {
-
-Camera JacobianTestCamera() {
-  std::string why;
-  return *Camera::Make("cam", 1920, 1080, 1400, 1395, 955, 545, {-0.1, 0.03, 0.001, -0.002, 0.004}, &why);
-}
-
-}  // namespace
 
 TEST_CASE("ComposeJacobians is the derivative of Compose in all 14 coordinates", "[cost][jacobian]") {
   // Off the unit sphere on purpose: Ceres asks for all 7 block coordinates.
@@ -70,7 +62,7 @@ TEST_CASE("ApplyCauchy scales like ProjectPoint and has its derivative", "[cost]
 }
 
 TEST_CASE("The camera model's ProjectWithJacobian: Project's pixel and its derivative", "[camera][jacobian]") {
-  const Camera camera = JacobianTestCamera();
+  const Camera camera = test::DistortedCamera();
   IntrinsicsJet2 params;
   for (int k = 0; k < OpenCVCameraModel::kNumParams; ++k) params[k] = ceres::Jet<double, 2>(camera.params[k]);
   using Jet = ceres::Jet<double, 3>;

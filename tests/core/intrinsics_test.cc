@@ -11,6 +11,7 @@
 #include "handeye/core/error.h"
 #include "handeye/core/evaluation.h"
 #include "handeye/sim/synthetic.h"
+#include "support/projected_scene.h"
 
 using namespace handeye;
 using Catch::Matchers::Contains;
@@ -30,11 +31,6 @@ SyntheticScene IntrinsicsScene(std::uint64_t seed, int poses, double robot_mm = 
   std::mt19937_64 rng(seed * 31 + 7);
   AddProjectedObservations(&scene, 0.1, &rng);
   return scene;
-}
-
-// The paper's e_t^GT, mean over the calibrated cameras (mm).
-double MeanPositionErrorMm(const CalibrationResult& result, const GroundTruth& truth) {
-  return EvaluateAgainstTruth(result, truth).mean_translation_mm;
 }
 
 // Factory intrinsics: focal length 1 % off, principal point a few pixels off,
@@ -85,12 +81,12 @@ TEST_CASE("Intrinsics 1 % off: the default solve warns, the refined one recovers
     const SyntheticScene scene = IntrinsicsScene(seed, 30);
     CalibrationOptions options;
     const CalibrationResult exact = Calibrate(scene.dataset, options);
-    const double exact_mm = MeanPositionErrorMm(exact, scene.truth);
+    const double exact_mm = test::MeanCameraErrorMm(exact, scene.truth);
     false_alarms += WarningsContaining(exact, "the images suggest");
 
     const Dataset factory = WithFactoryIntrinsics(scene.dataset);
     const CalibrationResult off = Calibrate(factory, options);
-    const double off_mm = MeanPositionErrorMm(off, scene.truth);
+    const double off_mm = test::MeanCameraErrorMm(off, scene.truth);
     // Every camera is named, with the flag to use.
     CHECK(WarningsContaining(off, "--refine-intrinsics") == 4);
     CHECK(WarningsContaining(off, "fx, fy ≈") >= 3);
@@ -111,7 +107,7 @@ TEST_CASE("Intrinsics 1 % off: the default solve warns, the refined one recovers
 
     options.refine_intrinsics = kFocal | kPrincipalPoint;
     const CalibrationResult refined = Calibrate(factory, options);
-    const double refined_mm = MeanPositionErrorMm(refined, scene.truth);
+    const double refined_mm = test::MeanCameraErrorMm(refined, scene.truth);
     std::printf("seed %d: true intrinsics %.3f mm, 1 %% off %.2f mm, refined %.3f mm\n", int(seed), exact_mm,
                 off_mm, refined_mm);
     // What 30 poses tell about each camera's focal length (σ ≈ 2 px, 0.15 %)
@@ -144,10 +140,10 @@ TEST_CASE("Distortion k1 off by 0.02: refining all intrinsics recovers it", "[in
   const SyntheticScene scene = IntrinsicsScene(3, 30);
   const Dataset factory = WithFactoryIntrinsics(scene.dataset, 0.02);
   CalibrationOptions options;
-  const double off_mm = MeanPositionErrorMm(Calibrate(factory, options), scene.truth);
+  const double off_mm = test::MeanCameraErrorMm(Calibrate(factory, options), scene.truth);
   options.refine_intrinsics = kAllIntrinsics;
   const CalibrationResult refined = Calibrate(factory, options);
-  const double refined_mm = MeanPositionErrorMm(refined, scene.truth);
+  const double refined_mm = test::MeanCameraErrorMm(refined, scene.truth);
   std::printf("k1 off: %.2f mm, refined %.3f mm\n", off_mm, refined_mm);
   CHECK(refined_mm < 0.15 * off_mm);
   for (size_t k = 0; k < refined.cameras.size(); ++k) {
@@ -163,7 +159,7 @@ TEST_CASE("Distortion k1 off by 0.02: refining all intrinsics recovers it", "[in
 TEST_CASE("A camera without intrinsics: estimated from its views in the joint solve", "[intrinsics]") {
   const SyntheticScene scene = IntrinsicsScene(4, 30);
   CalibrationOptions options;
-  const double exact_mm = MeanPositionErrorMm(Calibrate(scene.dataset, options), scene.truth);
+  const double exact_mm = test::MeanCameraErrorMm(Calibrate(scene.dataset, options), scene.truth);
   Dataset none = scene.dataset;
   for (Camera& camera : none.cameras) {
     camera.has_intrinsics = false;
@@ -171,7 +167,7 @@ TEST_CASE("A camera without intrinsics: estimated from its views in the joint so
     camera.params[0] = camera.params[1] = 2000.0;
   }
   const CalibrationResult estimated = Calibrate(none, options);
-  const double estimated_mm = MeanPositionErrorMm(estimated, scene.truth);
+  const double estimated_mm = test::MeanCameraErrorMm(estimated, scene.truth);
   std::printf("without intrinsics: %.3f mm (true intrinsics %.3f mm)\n", estimated_mm, exact_mm);
   CHECK(estimated_mm < 6.0 * exact_mm);
   CHECK(estimated_mm < 2.5);

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "handeye/core/error.h"
-#include "support/projected_scene.h"
+#include "support/problem_cell.h"
 
 using namespace handeye;
 using Catch::Matchers::Contains;
@@ -36,12 +36,6 @@ void Repeat(const Observation& from, Observation* to) {
   to->points_px = from.points_px;
 }
 
-int CountUsedViews(const internal::Problem& problem) {
-  int used = 0;
-  for (const internal::View& view : problem.views) used += view.used;
-  return used;
-}
-
 }  // namespace
 
 TEST_CASE("repeated views: both copies left out, each naming the other pose and the file",
@@ -57,11 +51,11 @@ TEST_CASE("repeated views: both copies left out, each naming the other pose and 
     if (pose.id == a->pose_id || pose.id == b->pose_id)
       pose.images["cam0"] = "images/cam0/same.png";
   internal::Problem problem = internal::BuildProblem(dataset, CalibrationOptions{});
-  const int before = CountUsedViews(problem);
+  const int before = test::UsedViews(problem);
   const size_t cam0_before = problem.camera_views[0].size(),
                cam1_before = problem.camera_views[1].size();
   internal::LeaveOutRepeatedViews(&problem);
-  CHECK(CountUsedViews(problem) == before - 2);
+  CHECK(test::UsedViews(problem) == before - 2);
   int left_out = 0;
   for (const internal::View& view : problem.views) {
     if (view.used) continue;
@@ -115,9 +109,9 @@ TEST_CASE("repeated views: a difference in one pixel's last bit, or too few poin
   Repeat(*a, b);
   b->points_px.back().x() = std::nextafter(b->points_px.back().x(), 1e9);
   internal::Problem problem = internal::BuildProblem(dataset, CalibrationOptions{});
-  const int before = CountUsedViews(problem);
+  const int before = test::UsedViews(problem);
   internal::LeaveOutRepeatedViews(&problem);
-  CHECK(CountUsedViews(problem) == before);
+  CHECK(test::UsedViews(problem) == before);
 }
 
 TEST_CASE("repeated views: a third of a camera network's views or more stops the calibration",
@@ -139,7 +133,7 @@ TEST_CASE("repeated views: a third of a camera network's views or more stops the
   {
     internal::Problem problem = internal::BuildProblem(dataset, CalibrationOptions{});
     CHECK_NOTHROW(internal::LeaveOutRepeatedViews(&problem));  // just under a third
-    CHECK(CountUsedViews(problem) == views - copies);
+    CHECK(test::UsedViews(problem) == views - copies);
   }
   REQUIRE(j < cam0.size());
   Observation* more = cam0[j];

@@ -13,6 +13,7 @@
 #include "handeye/core/evaluation.h"
 #include "handeye/core/transform.h"
 #include "handeye/sim/synthetic.h"
+#include "support/projected_scene.h"
 
 using namespace handeye;
 using Catch::Matchers::Contains;
@@ -35,11 +36,6 @@ SyntheticScene RobustnessScene(Setup setup, int poses, std::uint64_t seed, doubl
   std::mt19937_64 rng(seed * 31 + 7);
   AddProjectedObservations(&scene, detection_px, &rng);
   return scene;
-}
-
-// The paper's e_t^GT, mean over the calibrated cameras (mm).
-double MeanCameraErrorMm(const CalibrationResult& result, const GroundTruth& truth) {
-  return EvaluateAgainstTruth(result, truth).mean_translation_mm;
 }
 
 /// The dataset without the observations of the given poses.
@@ -88,8 +84,8 @@ TEST_CASE("Robot records of other poses: their views are left out and named", "[
       }
 
       const CalibrationResult clean = Calibrate(Without(scene.dataset, swapped), CalibrationOptions());
-      const double error = MeanCameraErrorMm(result, scene.truth);
-      const double clean_error = MeanCameraErrorMm(clean, scene.truth);
+      const double error = test::MeanCameraErrorMm(result, scene.truth);
+      const double clean_error = test::MeanCameraErrorMm(clean, scene.truth);
       INFO("error " << error << " mm, without the bad views " << clean_error << " mm");
       CHECK(error <= 1.2 * clean_error);
     }
@@ -130,7 +126,7 @@ TEST_CASE("A 180-degree-ambiguous board numbered half a turn round is used flipp
     bool noted = false;
     for (const std::string& note : result.notes) noted = noted || note.find("2 views of the 180°-ambiguous board were numbered half a turn round") == 0;
     CHECK(noted);
-    CHECK(MeanCameraErrorMm(result, scene.truth) < 2.0);
+    CHECK(test::MeanCameraErrorMm(result, scene.truth) < 2.0);
   }
 }
 
@@ -163,7 +159,7 @@ TEST_CASE("A 180-degree-ambiguous board numbered either way in many views, a who
     // Flipped exactly where turned, or (the board's numbering being a
     // convention) exactly where not.
     CHECK((as_turned == static_cast<int>(result.views.size()) || as_turned == 0));
-    CHECK(MeanCameraErrorMm(result, scene.truth) < 2.0);
+    CHECK(test::MeanCameraErrorMm(result, scene.truth) < 2.0);
   }
 }
 
@@ -316,9 +312,9 @@ TEST_CASE("With robot pose error the joint solve models it and beats its exact-r
     exact.robot_sigma_mm = exact.robot_sigma_deg = 0.0;
     CalibrationOptions park;
     park.method = Method::kPark;
-    const double error = MeanCameraErrorMm(modelled, scene.truth);
-    const double exact_error = MeanCameraErrorMm(Calibrate(scene.dataset, exact), scene.truth);
-    const double park_error = MeanCameraErrorMm(Calibrate(scene.dataset, park), scene.truth);
+    const double error = test::MeanCameraErrorMm(modelled, scene.truth);
+    const double exact_error = test::MeanCameraErrorMm(Calibrate(scene.dataset, exact), scene.truth);
+    const double park_error = test::MeanCameraErrorMm(Calibrate(scene.dataset, park), scene.truth);
     INFO("seed " << seed << ": modelled " << error << " mm, exact robot " << exact_error << " mm, Park "
                  << park_error << " mm; robot σ " << modelled.solver.robot_sigma_mm << " mm, "
                  << modelled.solver.robot_sigma_deg << " deg");
@@ -341,8 +337,8 @@ TEST_CASE("A small robot pose error is modelled on a large cell; a principal poi
     const CalibrationResult modelled = Calibrate(scene.dataset, {});
     CalibrationOptions exact;
     exact.robot_sigma_mm = exact.robot_sigma_deg = 0.0;
-    const double error = MeanCameraErrorMm(modelled, scene.truth);
-    const double exact_error = MeanCameraErrorMm(Calibrate(scene.dataset, exact), scene.truth);
+    const double error = test::MeanCameraErrorMm(modelled, scene.truth);
+    const double exact_error = test::MeanCameraErrorMm(Calibrate(scene.dataset, exact), scene.truth);
     INFO("seed " << seed << ": modelled " << error << " mm, exact robot " << exact_error << " mm; robot σ "
                  << modelled.solver.robot_sigma_mm << " mm, " << modelled.solver.robot_sigma_deg << " deg");
     CHECK(modelled.solver.robot_sigma_mm > 0);
@@ -356,7 +352,7 @@ TEST_CASE("A small robot pose error is modelled on a large cell; a principal poi
     camera.params[3] -= 2.5;
   }
   const CalibrationResult result = Calibrate(scene.dataset, {});
-  INFO("robot σ " << result.solver.robot_sigma_mm << " mm; error " << MeanCameraErrorMm(result, scene.truth)
+  INFO("robot σ " << result.solver.robot_sigma_mm << " mm; error " << test::MeanCameraErrorMm(result, scene.truth)
                   << " mm");
   CHECK(result.solver.robot_sigma_mm == 0);
   CHECK(AnyWarningContains(result, "rerun with --refine-intrinsics principal_point"));

@@ -22,14 +22,6 @@ using test::SmallCell;
 
 namespace {
 
-const Setup kSetups[] = {Setup::kEyeToHand, Setup::kEyeInHand};
-
-int UsedViews(const internal::Problem& problem) {
-  int used = 0;
-  for (const internal::View& view : problem.views) used += view.used ? 1 : 0;
-  return used;
-}
-
 /// Every camera's T_holder_target: the true one.
 internal::TargetPoses TrueTargets(const ProblemCell& cell) {
   return internal::TargetPoses(cell.scene.dataset.cameras.size(), cell.TrueHolderTarget());
@@ -46,7 +38,7 @@ std::set<std::string> SwappedPoses(const SyntheticScene& scene) {
 
 TEST_CASE("the motion vote leaves no view of a clean cell out, even with an inexact robot",
           "[view_consensus]") {
-  for (const Setup setup : kSetups)
+  for (const Setup setup : test::kBothSetups)
     for (const std::uint64_t seed : {1, 2, 3})
       for (const double robot : {0.0, 1.0}) {
         SceneOptions options = SmallCell(setup, 3, 16, seed);
@@ -54,15 +46,15 @@ TEST_CASE("the motion vote leaves no view of a clean cell out, even with an inex
         options.pose_noise_deg = 0.03 * robot;
         ProblemCell cell(options, 0.2);
         INFO(SetupName(setup) << ", seed " << seed << ", robot noise " << robot);
-        const int used = UsedViews(cell.problem);
+        const int used = test::UsedViews(cell.problem);
         CHECK(internal::RejectInconsistentMotions(&cell.problem) == 0);
-        CHECK(UsedViews(cell.problem) == used);
+        CHECK(test::UsedViews(cell.problem) == used);
       }
 }
 
 TEST_CASE("the motion vote leaves out the views of records swapped between poses, and no other",
           "[view_consensus]") {
-  for (const Setup setup : kSetups)
+  for (const Setup setup : test::kBothSetups)
     for (const std::uint64_t seed : {1, 2, 3}) {
       SceneOptions options = SmallCell(setup, 3, 16, seed);
       options.swap_poses = 1;
@@ -108,7 +100,7 @@ TEST_CASE("the motion vote leaves out the views of records swapped between poses
 
 TEST_CASE("views off the solution: none at the truth, a view moved by pixels is named",
           "[view_consensus]") {
-  for (const Setup setup : kSetups) {
+  for (const Setup setup : test::kBothSetups) {
     ProblemCell cell(SmallCell(setup, 2, 14, 4), 0.2);
     INFO(SetupName(setup));
     const auto T_cam_mount = cell.TrueCamMounts();
@@ -189,7 +181,7 @@ TEST_CASE("the residuals through the truth and the PnP fits both give the detect
 
 TEST_CASE("the robot's error the views show: none for an exact robot, near the simulated one",
           "[view_consensus]") {
-  for (const Setup setup : kSetups) {
+  for (const Setup setup : test::kBothSetups) {
     INFO(SetupName(setup));
     for (const std::uint64_t seed : {6, 7, 8}) {
       const ProblemCell exact(SmallCell(setup, 3, 20, seed), 0.1);

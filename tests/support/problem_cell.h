@@ -60,4 +60,11 @@ inline double AngleDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return RotationDistance(a.rotation(), b.rotation()) * 180.0 / M_PI;
 }
 
+/// The problem's views still used.
+inline int UsedViews(const internal::Problem& problem) {
+  int used = 0;
+  for (const internal::View& view : problem.views) used += view.used ? 1 : 0;
+  return used;
+}
+
 }  // namespace handeye::test

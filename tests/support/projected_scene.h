@@ -9,6 +9,7 @@
 #include <string>
 
 #include "handeye/core/checkerboard.h"
+#include "handeye/core/evaluation.h"
 #include "handeye/sim/synthetic.h"
 
 namespace handeye::test {
@@ -37,5 +38,14 @@ inline SyntheticScene ProjectedScene(const std::string& cell, int cameras, int p
   options.seed = seed;
   return ProjectedScene(options, noise_px);
 }
+
+/// The mean camera position error (mm) of a result against the simulator's
+/// truth (the paper's e_t^GT, over the calibrated cameras).
+inline double MeanCameraErrorMm(const CalibrationResult& result, const GroundTruth& truth) {
+  return EvaluateAgainstTruth(result, truth).mean_translation_mm;
+}
+
+/// Both setups, for the tests that run each.
+inline constexpr Setup kBothSetups[] = {Setup::kEyeToHand, Setup::kEyeInHand};
 
 }  // namespace handeye::test

@@ -6,20 +6,10 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "handeye/core/evaluation.h"
-#include "handeye/io/dataset_json.h"
-#include "handeye/io/result_json.h"
+#include "projected_cell.h"
 #include "support/test_support.h"
 
 using namespace handeye;
-
-namespace {
-
-double MeanErrorMm(const std::string& result_path, const std::string& truth_path) {
-  return EvaluateAgainstTruth(LoadResult(result_path), LoadGroundTruth(truth_path)).mean_translation_mm;
-}
-
-}  // namespace
 
 TEST_CASE("calibrate --refine-intrinsics on a rendered cell with intrinsics 1 % off", "[cli][intrinsics]") {
   const std::string dir = test::TempDir("intrinsics_cli");
@@ -40,16 +30,16 @@ TEST_CASE("calibrate --refine-intrinsics on a rendered cell with intrinsics 1 % 
   const std::string truth = dir + "/sim/ground_truth.json";
 
   REQUIRE(test::RunHandeye("calibrate " + dir + "/obs.json -o " + dir + "/exact.json", &out) == 0);
-  const double exact_mm = MeanErrorMm(dir + "/exact.json", truth);
+  const double exact_mm = test::MeanCameraErrorMm(dir + "/exact.json", truth);
   REQUIRE(test::RunHandeye("calibrate " + dir + "/factory.json -o " + dir + "/off.json", &out) == 0);
   CHECK_THAT(out, Catch::Contains("the images suggest fx, fy") && Catch::Contains("--refine-intrinsics focal"));
-  const double off_mm = MeanErrorMm(dir + "/off.json", truth);
+  const double off_mm = test::MeanCameraErrorMm(dir + "/off.json", truth);
 
   REQUIRE(test::RunHandeye("calibrate " + dir + "/factory.json -o " + dir + "/refined.json "
                            "--refine-intrinsics focal,principal_point --cross-validate --report " + dir + "/report",
                            &out) == 0);
   CHECK_THAT(out, !Catch::Contains("the images suggest"));
-  const double refined_mm = MeanErrorMm(dir + "/refined.json", truth);
+  const double refined_mm = test::MeanCameraErrorMm(dir + "/refined.json", truth);
   INFO("true intrinsics " << exact_mm << " mm, 1 % off " << off_mm << " mm, refined " << refined_mm << " mm");
   CHECK(off_mm > 5.0);
   CHECK(refined_mm < 0.2 * off_mm);
@@ -79,7 +69,7 @@ TEST_CASE("calibrate --refine-intrinsics on a rendered cell with intrinsics 1 % 
   test::WriteText(dir + "/none.json", obs.dump());
   REQUIRE(test::RunHandeye("calibrate " + dir + "/none.json -o " + dir + "/none_result.json", &out) == 0);
   CHECK_THAT(out, Catch::Contains("has no intrinsics: started from"));
-  const double none_mm = MeanErrorMm(dir + "/none_result.json", truth);
+  const double none_mm = test::MeanCameraErrorMm(dir + "/none_result.json", truth);
   INFO("without intrinsics " << none_mm << " mm");
   CHECK(none_mm < 0.2 * off_mm);
   // Bad lists exit 2 naming the flag.

@@ -6,7 +6,9 @@
 #include <random>
 
 #include "handeye/core/checkerboard.h"
+#include "handeye/core/evaluation.h"
 #include "handeye/io/dataset_json.h"
+#include "handeye/io/result_json.h"
 #include "support/test_support.h"
 
 namespace handeye::test {
@@ -33,6 +35,11 @@ std::string CalibratedSmallCell(const std::string& dir, int poses) {
   std::string out;
   REQUIRE(RunHandeye("calibrate " + dir + "/obs.json -o " + dir + "/result.json -q", &out) == 0);
   return out;
+}
+
+double MeanCameraErrorMm(const std::string& result_path, const std::string& truth_path) {
+  return EvaluateAgainstTruth(LoadResult(result_path), LoadGroundTruth(truth_path))
+      .mean_translation_mm;
 }
 
 }  // namespace handeye::test

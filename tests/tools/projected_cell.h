@@ -20,4 +20,8 @@ SyntheticScene ProjectedSmallCell(int poses, std::uint64_t pose_seed = 0, bool b
 /// DIR/result.json (REQUIREd to succeed); returns calibrate's output.
 std::string CalibratedSmallCell(const std::string& dir, int poses = 8);
 
+/// The mean camera position error (mm) of the result file against the
+/// simulator's ground-truth file.
+double MeanCameraErrorMm(const std::string& result_path, const std::string& truth_path);
+
 }  // namespace handeye::test

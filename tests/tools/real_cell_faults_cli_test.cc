@@ -6,21 +6,12 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "handeye/core/evaluation.h"
 #include "handeye/io/dataset_json.h"
 #include "handeye/io/result_json.h"
+#include "projected_cell.h"
 #include "support/test_support.h"
 
 using namespace handeye;
-
-namespace {
-
-/// Mean camera position error (mm) of a result against the simulator's truth.
-double MeanCameraErrorMm(const std::string& result_path, const std::string& truth_path) {
-  return EvaluateAgainstTruth(LoadResult(result_path), LoadGroundTruth(truth_path)).mean_translation_mm;
-}
-
-}  // namespace
 
 TEST_CASE("calibrate a rendered cell whose robot records of 4 of 24 poses are swapped", "[cli][robust]") {
   const std::string dir = test::TempDir("faults_swapped");
@@ -59,8 +50,8 @@ TEST_CASE("calibrate a rendered cell whose robot records of 4 of 24 poses are sw
   obs["observations"] = kept;
   test::WriteText(dir + "/clean.json", obs.dump());
   REQUIRE(test::RunHandeye("calibrate " + dir + "/clean.json -o " + dir + "/clean_result.json", &out) == 0);
-  const double error = MeanCameraErrorMm(dir + "/result.json", dir + "/sim/ground_truth.json");
-  const double clean_error = MeanCameraErrorMm(dir + "/clean_result.json", dir + "/sim/ground_truth.json");
+  const double error = test::MeanCameraErrorMm(dir + "/result.json", dir + "/sim/ground_truth.json");
+  const double clean_error = test::MeanCameraErrorMm(dir + "/clean_result.json", dir + "/sim/ground_truth.json");
   INFO("error " << error << " mm, without the bad views " << clean_error << " mm");
   CHECK(error <= 1.2 * clean_error);
 }
@@ -98,5 +89,5 @@ TEST_CASE("calibrate a rendered cell with a see-through target", "[cli][robust]"
   }
   CHECK(mirrored >= 1);
   CHECK(front_dropped <= 1);
-  CHECK(MeanCameraErrorMm(dir + "/result.json", dir + "/sim/ground_truth.json") < 0.2);
+  CHECK(test::MeanCameraErrorMm(dir + "/result.json", dir + "/sim/ground_truth.json") < 0.2);
 }
