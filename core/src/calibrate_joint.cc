@@ -240,14 +240,11 @@ ModelChoice CompareRobotModels(const Calibration& c, const Initialisation& init,
       candidate.robot_sigma_deg = priors[i]->sigma_rad * 180.0 / M_PI;
     }
   }
-  // The model the views suggested (the robot's error where they show it
-  // clearly and the given intrinsics fit, else the exact robot), then the
-  // one at the solved poses' σ.
-  const bool suggested_modelled = robot.chain_to_pnp >= kClearChainToPnp && !given_intrinsics_off;
   ModelChoice choice;
   choice.folds = kModelFolds;
-  choice.chosen = ModelByHeldOut(
-      candidates, {suggested_modelled ? size_t{1} : size_t{0}, candidates.size() - 1});
+  choice.chosen =
+      ModelByHeldOut(candidates, PreferredModels(robot.chain_to_pnp >= kClearChainToPnp,
+                                                 given_intrinsics_off, candidates.size()));
   choice.candidates = candidates;
   return choice;
 }
