@@ -48,6 +48,10 @@ struct Settings {
   // The solves' camera-to-camera terms (CalibrationOptions::cross_terms),
   // and so the plan's forecast (PlanCell::cross_terms).
   bool cross_terms = true;
+  // Further draws of the planned capture's robot error and detection noise
+  // (same poses): how far the σ the solve reports scatters on its own, and
+  // so how close any forecast of one σ per camera can come to it.
+  int noise_draws = 0;
 };
 
 /// One capture's outcome against the truth.
@@ -224,6 +228,11 @@ int main(int argc, char** argv) {
                  "PCT/PX: the given intrinsics off by PCT % in focal length and PX in the principal point "
                  "(OffsetIntrinsics: even cameras f +, cx +, cy -; odd the other way); the observations are "
                  "the true cameras'");
+  app.add_option(
+      "--noise-draws", s.noise_draws,
+      "further draws of each planned capture's robot error and detection noise (same poses): "
+      "tables the plan's forecast against every draw's reported σ, and against the best "
+      "forecast of one σ per camera (the median of the draws)");
   CLI11_PARSE(app, argc, argv);
   s.cross_terms = !no_cross_terms;
   if (!ParseIntrinsicsOffset(intrinsics_off, &s.intrinsics_off)) {
@@ -240,6 +249,8 @@ int main(int argc, char** argv) {
                "plans failed", "planned views seen whole / claimed"});
   // With --refine-intrinsics: each capture solved with the true intrinsics,
   // with the given ones (off by --intrinsics-off) refined, and with none.
+  Table draws({"cell", "cameras", "draws per capture", "forecast within 30 % of the reported σ",
+               "median of the draws within 30 % of the reported σ"});
   Table refinement({"cell", "cameras", "capture", "seeds solved", "true intrinsics mm",
                     "off, refined mm", "refined / true", "reported σ refined / true (own)",
                     "off, held mm", "no intrinsics mm", "none / true"});
@@ -248,6 +259,9 @@ int main(int argc, char** argv) {
     std::map<std::string, std::vector<double>> variants;  // capture/variant -> mean error per seed
     std::vector<double> mean_sampler, mean_planned, worst_sampler, worst_planned, ratios;
     std::vector<double> predicted_sigma, reported_sigma, planned_errors;  // per camera of the planned captures
+    // --noise-draws: predicted over reported σ per camera and draw, and the
+    // median of the camera's draws over each.
+    std::vector<double> draw_ratios, oracle_ratios;
     int solved = 0, failed_plans = 0, claimed_views = 0, whole_views = 0;
     for (int i = 0; i < seeds; ++i) {
       const std::uint64_t seed = first_seed + i;
@@ -292,6 +306,32 @@ int main(int argc, char** argv) {
                        name.c_str(), predicted.position_mm, predicted.own_position_mm,
                        b.sigma_mm.at(name), b.own_sigma_mm.at(name), b.error_mm.at(name));
         }
+      // The planned capture drawn again: each camera's reported σ over the
+      // draws, the main one first.
+      std::map<std::string, std::vector<double>> drawn;
+      for (const auto& [name, sigma] : b.sigma_mm) drawn[name].push_back(sigma);
+      for (int d = 1; d <= s.noise_draws; ++d) {
+        SceneOptions again = planned_options;
+        again.pose_seed = seed * 1000 + d;
+        SyntheticScene redrawn = MakeScene(again, target);
+        Observe(&redrawn, s, seed * 1000 + 7919 + d);
+        const Outcome o = Solve(redrawn, s);
+        for (const auto& [name, sigma] : o.sigma_mm) drawn[name].push_back(sigma);
+      }
+      for (const auto& [name, predicted] : plan.poses.back().sigma_after) {
+        const auto it = drawn.find(name);
+        if (s.noise_draws == 0 || it == drawn.end()) continue;
+        const double median = Median(it->second);
+        for (double reported : it->second) {
+          draw_ratios.push_back(predicted.position_mm / reported);
+          oracle_ratios.push_back(median / reported);
+        }
+        std::fprintf(stderr,
+                     "  %s predicted %.3f, reported over %zu draws: median %.3f (%.3f-%.3f)\n",
+                     name.c_str(), predicted.position_mm, it->second.size(), median,
+                     *std::min_element(it->second.begin(), it->second.end()),
+                     *std::max_element(it->second.begin(), it->second.end()));
+      }
       std::fprintf(stderr,
                    "%s seed %llu: sampler mean %.3f worst %.3f | planned mean %.3f worst %.3f, "
                    "robot %.3f mm / "
@@ -342,6 +382,9 @@ int main(int argc, char** argv) {
                       mm("held"), mm("none") + " (" + solved_of("none") + " solved)",
                       ratio("none")});
     }
+    if (s.noise_draws > 0)
+      draws.Add({cell_names[c], std::to_string(cameras), std::to_string(s.noise_draws + 1),
+                 RatiosWithin30Percent(draw_ratios), RatiosWithin30Percent(oracle_ratios)});
     table.Add({cell_names[c], std::to_string(cameras), Format("%d/%d", solved, seeds),
                Format("%.3f", Mean(mean_sampler)), Format("%.3f", Mean(mean_planned)),
                Format("%.3f", Mean(worst_sampler)), Format("%.3f", Mean(worst_planned)),
@@ -352,6 +395,7 @@ int main(int argc, char** argv) {
                std::to_string(failed_plans), Format("%d/%d", whole_views, claimed_views)});
   }
   std::printf("%s", table.Markdown().c_str());
+  if (s.noise_draws > 0) std::printf("\n%s", draws.Markdown().c_str());
   if (s.refine_intrinsics) std::printf("\n%s", refinement.Markdown().c_str());
   return 0;
 }
