@@ -155,7 +155,7 @@ std::string ModelByHeldOut(const std::vector<ModelCandidate>& candidates,
 std::vector<size_t> PreferredModels(bool robot_error_clear, bool given_intrinsics_off,
                                     size_t num_candidates) {
   std::vector<size_t> preferred = {robot_error_clear ? size_t{1} : size_t{0}, num_candidates - 1};
-  if (given_intrinsics_off) preferred.insert(preferred.begin(), 0);
+  if (given_intrinsics_off && preferred.front() != 0) preferred.insert(preferred.begin(), 0);
   return preferred;
 }
 
