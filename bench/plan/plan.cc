@@ -306,31 +306,33 @@ int main(int argc, char** argv) {
                        name.c_str(), predicted.position_mm, predicted.own_position_mm,
                        b.sigma_mm.at(name), b.own_sigma_mm.at(name), b.error_mm.at(name));
         }
-      // The planned capture drawn again: each camera's reported σ over the
-      // draws, the main one first.
-      std::map<std::string, std::vector<double>> drawn;
-      for (const auto& [name, sigma] : b.sigma_mm) drawn[name].push_back(sigma);
-      for (int d = 1; d <= s.noise_draws; ++d) {
-        SceneOptions again = planned_options;
-        again.pose_seed = seed * 1000 + d;
-        SyntheticScene redrawn = MakeScene(again, target);
-        Observe(&redrawn, s, seed * 1000 + 7919 + d);
-        const Outcome o = Solve(redrawn, s);
-        for (const auto& [name, sigma] : o.sigma_mm) drawn[name].push_back(sigma);
-      }
-      for (const auto& [name, predicted] : plan.poses.back().sigma_after) {
-        const auto it = drawn.find(name);
-        if (s.noise_draws == 0 || it == drawn.end()) continue;
-        const double median = Median(it->second);
-        for (double reported : it->second) {
-          draw_ratios.push_back(predicted.position_mm / reported);
-          oracle_ratios.push_back(median / reported);
+      if (s.noise_draws > 0) {
+        // The planned capture drawn again: each camera's reported σ over the
+        // draws, the main one first.
+        std::map<std::string, std::vector<double>> drawn;
+        for (const auto& [name, sigma] : b.sigma_mm) drawn[name].push_back(sigma);
+        for (int d = 1; d <= s.noise_draws; ++d) {
+          SceneOptions again = planned_options;
+          again.pose_seed = seed * 1000 + d;
+          SyntheticScene redrawn = MakeScene(again, target);
+          Observe(&redrawn, s, seed * 1000 + 7919 + d);
+          const Outcome o = Solve(redrawn, s);
+          for (const auto& [name, sigma] : o.sigma_mm) drawn[name].push_back(sigma);
         }
-        std::fprintf(stderr,
-                     "  %s predicted %.3f, reported over %zu draws: median %.3f (%.3f-%.3f)\n",
-                     name.c_str(), predicted.position_mm, it->second.size(), median,
-                     *std::min_element(it->second.begin(), it->second.end()),
-                     *std::max_element(it->second.begin(), it->second.end()));
+        for (const auto& [name, predicted] : plan.poses.back().sigma_after) {
+          const auto it = drawn.find(name);
+          if (it == drawn.end()) continue;
+          const double median = Median(it->second);
+          for (double reported : it->second) {
+            draw_ratios.push_back(predicted.position_mm / reported);
+            oracle_ratios.push_back(median / reported);
+          }
+          std::fprintf(stderr,
+                       "  %s predicted %.3f, reported over %zu draws: median %.3f (%.3f-%.3f)\n",
+                       name.c_str(), predicted.position_mm, it->second.size(), median,
+                       *std::min_element(it->second.begin(), it->second.end()),
+                       *std::max_element(it->second.begin(), it->second.end()));
+        }
       }
       std::fprintf(stderr,
                    "%s seed %llu: sampler mean %.3f worst %.3f | planned mean %.3f worst %.3f, "
