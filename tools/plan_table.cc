@@ -8,6 +8,48 @@
 
 namespace handeye::tools {
 
+namespace {
+
+/// Where a camera's σ after the plan would be under 80 % of itself were
+/// its intrinsics, or the robot, exact: what it would be, and what to do.
+void PrintSigmaLimits(const PlanCell& cell, const CapturePlan& plan) {
+  if (plan.poses.empty()) return;
+  constexpr double kNotable = 0.8;
+  bool header = false, intrinsics = false, robot = false;
+  for (const PlanCamera& camera : cell.cameras) {
+    const std::string& name = camera.camera.name;
+    const double sigma = plan.poses.back().sigma_after.at(name).position_mm;
+    const auto known = plan.intrinsics_exact_mm.find(name);
+    const auto exact = plan.robot_exact_mm.find(name);
+    if (known == plan.intrinsics_exact_mm.end() || exact == plan.robot_exact_mm.end()) continue;
+    const bool by_intrinsics = known->second < kNotable * sigma,
+               by_robot = exact->second < kNotable * sigma;
+    if (!by_intrinsics && !by_robot) continue;
+    if (!header)
+      std::printf(
+          "what holds the sigma back (position sigma, mm, of the same poses):\n  %-12s %9s %17s "
+          "%12s\n",
+          "camera", "planned", "intrinsics exact", "robot exact");
+    header = true;
+    intrinsics = intrinsics || by_intrinsics;
+    robot = robot || by_robot;
+    std::printf("  %-12s %9.3f %17.3f %12.3f\n", name.c_str(), sigma, known->second, exact->second);
+  }
+  if (intrinsics)
+    std::printf(
+        "  intrinsics: the focal length trades against the distance along the camera's axis; views "
+        "at\n"
+        "  more varied depths, or nearer the camera, pin it, and so do intrinsics from a dedicated "
+        "calibration\n");
+  if (robot) std::printf("  robot: its pose error, which more poses average\n");
+  if (intrinsics && robot)
+    std::printf(
+        "  both at once: the robot's moves along the axis are what pin the focal length, and its "
+        "error blurs them\n");
+}
+
+}  // namespace
+
 void PrintPlanTable(const PlanCell& cell, const CapturePlan& plan) {
   std::printf("%-6s %-28s", "pose", "seen by");
   for (const PlanCamera& camera : cell.cameras) std::printf(" %9s", camera.camera.name.c_str());
@@ -19,6 +61,7 @@ void PrintPlanTable(const PlanCell& cell, const CapturePlan& plan) {
     for (const PlanCamera& camera : cell.cameras) std::printf(" %9.3f", pose.sigma_after.at(camera.camera.name).position_mm);
     std::printf("\n");
   }
+  PrintSigmaLimits(cell, plan);
 }
 
 void AddCandidateOptions(CLI::App* cmd, std::uint64_t* seed, int* candidates, int* threads) {

@@ -253,7 +253,8 @@ int main(int argc, char** argv) {
                "median of the draws within 30 % of the reported σ"});
   Table refinement({"cell", "cameras", "capture", "seeds solved", "true intrinsics mm",
                     "off, refined mm", "refined / true", "reported σ refined / true (own)",
-                    "off, held mm", "no intrinsics mm", "none / true"});
+                    "forecast σ refined / exact", "off, held mm", "no intrinsics mm",
+                    "none / true"});
   for (size_t c = 0; c < cell_names.size(); ++c) {
     const int cameras = std::stoi(camera_counts[std::min(c, camera_counts.size() - 1)]);
     std::map<std::string, std::vector<double>> variants;  // capture/variant -> mean error per seed
@@ -262,6 +263,9 @@ int main(int argc, char** argv) {
     // --noise-draws: predicted over reported σ per camera and draw, and the
     // median of the camera's draws over each.
     std::vector<double> draw_ratios, oracle_ratios;
+    // Each planned camera's forecast σ, and the same views' were its
+    // intrinsics exact (CapturePlan::intrinsics_exact_mm).
+    std::vector<double> forecast_sigma, forecast_exact_intrinsics;
     int solved = 0, failed_plans = 0, claimed_views = 0, whole_views = 0;
     for (int i = 0; i < seeds; ++i) {
       const std::uint64_t seed = first_seed + i;
@@ -291,6 +295,10 @@ int main(int argc, char** argv) {
       }
       ++solved;
       if (s.refine_intrinsics) SolveVariants(sampler, planned, s, &variants);
+      for (const auto& [name, predicted] : plan.poses.back().sigma_after) {
+        forecast_sigma.push_back(predicted.position_mm);
+        forecast_exact_intrinsics.push_back(plan.intrinsics_exact_mm.at(name));
+      }
       mean_sampler.push_back(a.mean_mm);
       mean_planned.push_back(b.mean_mm);
       worst_sampler.push_back(a.worst_mm);
@@ -381,6 +389,9 @@ int main(int argc, char** argv) {
                       capture == "sampler" ? Format("sampler, %d poses", s.sampler_poses)
                                            : Format("planned, %d poses", s.planned_poses),
                       solved_of("true"), mm("true"), mm("refined"), ratio("refined"), sigma_ratio,
+                      capture == "sampler"
+                          ? std::string("-")
+                          : Format("%.2fx", Rms(forecast_sigma) / Rms(forecast_exact_intrinsics)),
                       mm("held"), mm("none") + " (" + solved_of("none") + " solved)",
                       ratio("none")});
     }

@@ -95,12 +95,39 @@ std::vector<int> Indices(const PlanCell& cell, const std::vector<std::string>& n
   return out;
 }
 
-std::string GoalFailure(const PlanCell& cell, const PlanOptions& options, const CapturePlan& plan) {
+/// CapturePlan::intrinsics_exact_mm and robot_exact_mm: the σ of the same
+/// views under a cell whose intrinsics, or robot, are exact.
+void SigmaLimits(const PlanCell& cell, const std::vector<PlannedPose>& views, CapturePlan* plan) {
+  PlanCell known = cell, exact = cell;
+  known.intrinsics_sigma = {0.0, 0.0};
+  for (PlanCamera& camera : known.cameras) {
+    camera.refine_intrinsics = false;
+    camera.given_intrinsics_offset_px.reset();
+  }
+  exact.robot_sigma_mm = exact.robot_sigma_deg = 0.0;
+  for (const auto& [name, sigma] : PredictSigmaOfViews(known, views))
+    plan->intrinsics_exact_mm[name] = sigma.position_mm;
+  for (const auto& [name, sigma] : PredictSigmaOfViews(exact, views))
+    plan->robot_exact_mm[name] = sigma.position_mm;
+}
+
+std::string GoalFailure(const PlanOptions& options, const CapturePlan& plan) {
   std::ostringstream why;
   why.precision(3);
   why << "the goal of " << options.goal_mm << " mm is not reached within " << plan.poses.size()
       << " poses: the best reachable is " << plan.worst_position_mm << " mm (" << plan.worst_camera
-      << "); widen the region, allow more poses (--poses), or relax the goal";
+      << ")";
+  const auto known = plan.intrinsics_exact_mm.find(plan.worst_camera);
+  const auto exact = plan.robot_exact_mm.find(plan.worst_camera);
+  if (known != plan.intrinsics_exact_mm.end() && known->second <= options.goal_mm)
+    why << "; its intrinsics hold it back (" << known->second
+        << " mm were they known exactly): the focal length trades against the distance along the"
+           " camera's axis, which views at more varied depths, or nearer the camera, pin; or give"
+           " intrinsics from a dedicated calibration";
+  else if (exact != plan.robot_exact_mm.end() && exact->second <= options.goal_mm)
+    why << "; the robot's pose error holds it back (" << exact->second
+        << " mm with an exact robot): more poses average it";
+  why << "; widen the region, allow more poses (--poses), or relax the goal";
   return why.str();
 }
 
@@ -341,8 +368,11 @@ CapturePlan PlanCapture(const PlanCell& cell, const PlanOptions& options, const 
   }
   plan.worst_position_mm = sigma[Worst(sigma)].position_mm;
   plan.worst_camera = cell.cameras[Worst(sigma)].camera.name;
+  std::vector<PlannedPose> views = recorded;
+  views.insert(views.end(), plan.poses.begin(), plan.poses.end());
+  if (!views.empty()) SigmaLimits(cell, views, &plan);
   if (plan.failure.empty() && options.goal_mm > 0 && plan.worst_position_mm > options.goal_mm)
-    plan.failure = GoalFailure(cell, options, plan);
+    plan.failure = GoalFailure(options, plan);
   return plan;
 }
 

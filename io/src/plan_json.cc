@@ -59,6 +59,11 @@ void SavePlan(const CapturePlan& plan, const PlanCell& cell, const PlanOptions& 
                           {"sigma_after", SigmaJson(pose.sigma_after)}});
   j["worst_camera"] = plan.worst_camera;
   j["worst_position_mm"] = plan.worst_position_mm;
+  nlohmann::ordered_json limits = nlohmann::ordered_json::object();
+  for (const auto& [name, known_mm] : plan.intrinsics_exact_mm)
+    limits[name] = {{"intrinsics_exact_mm", known_mm},
+                    {"robot_exact_mm", plan.robot_exact_mm.at(name)}};
+  if (!limits.empty()) j["sigma_limits"] = limits;
   if (!plan.failure.empty()) j["failure"] = plan.failure;
   if (!csv_path.empty()) {
     const std::string relative =

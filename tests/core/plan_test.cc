@@ -203,6 +203,48 @@ TEST_CASE("With a goal the plan has the fewest poses that reach it, or says it i
              Catch::Contains("not reached within 5 poses: the best reachable is"));
 }
 
+TEST_CASE("The plan says what holds each camera's sigma back, and a goal out of reach names it",
+          "[plan]") {
+  const SyntheticScene scene = MediumScene(1);
+  PlanCell cell = PlanCellOfScene(scene, RoughKnowledge{});
+  for (PlanCamera& camera : cell.cameras) camera.refine_intrinsics = true;
+  PlanOptions options;
+  options.poses = 12;
+  options.candidates = 800;
+  const CapturePlan plan = PlanCapture(cell, options);
+  REQUIRE(plan.failure.empty());
+  REQUIRE(plan.intrinsics_exact_mm.size() == cell.cameras.size());
+  REQUIRE(plan.robot_exact_mm.size() == cell.cameras.size());
+  double worst_exact = 0;
+  for (const auto& [name, sigma] : plan.poses.back().sigma_after) {
+    INFO(name << ": " << sigma.position_mm << " mm, " << plan.intrinsics_exact_mm.at(name)
+              << " with exact intrinsics, " << plan.robot_exact_mm.at(name)
+              << " with an exact robot");
+    // Cameras 2.5 m out, refining their focal length: it costs, as does the robot's error.
+    CHECK(plan.intrinsics_exact_mm.at(name) < 0.8 * sigma.position_mm);
+    CHECK(plan.robot_exact_mm.at(name) < sigma.position_mm);
+    worst_exact = std::max(worst_exact, plan.intrinsics_exact_mm.at(name));
+  }
+  // Nothing to take away: the limits are the σ itself.
+  PlanCell exact = cell;
+  exact.intrinsics_sigma = {0.0, 0.0};
+  exact.robot_sigma_mm = exact.robot_sigma_deg = 0.0;
+  for (PlanCamera& camera : exact.cameras) camera.refine_intrinsics = false;
+  const CapturePlan same = PlanCapture(exact, options);
+  for (const auto& [name, sigma] : same.poses.back().sigma_after) {
+    CHECK(same.intrinsics_exact_mm.at(name) == Approx(sigma.position_mm).epsilon(1e-9));
+    CHECK(same.robot_exact_mm.at(name) == Approx(sigma.position_mm).epsilon(1e-9));
+  }
+  // A goal the intrinsics, known, would reach: the failure says so.
+  options.goal_mm = 0.5 * (worst_exact + plan.worst_position_mm);
+  options.poses = 12;
+  const CapturePlan short_of_goal = PlanCapture(cell, options);
+  INFO(short_of_goal.failure);
+  REQUIRE(short_of_goal.worst_position_mm > options.goal_mm);
+  REQUIRE(short_of_goal.intrinsics_exact_mm.at(short_of_goal.worst_camera) <= options.goal_mm);
+  CHECK_THAT(short_of_goal.failure, Catch::Contains("its intrinsics hold it back ("));
+}
+
 TEST_CASE("A region no camera can see is a failure that says so", "[plan]") {
   const SyntheticScene scene = MediumScene(1);
   PlanCell cell = PlanCellOfScene(scene, RoughKnowledge{});

@@ -39,6 +39,19 @@ TEST_CASE("simulate --poses-file renders exactly the planned poses, from the pla
   const std::vector<PoseRow> planned = ReadPoseFile(dir + "/plan.json");
   REQUIRE(planned.size() == 4);
   REQUIRE(std::filesystem::is_regular_file(dir + "/plan.csv"));
+  {
+    // What holds each camera's σ back, for the same poses, at most the σ itself.
+    const nlohmann::json plan = nlohmann::json::parse(test::ReadText(dir + "/plan.json"));
+    const nlohmann::json& last = plan["poses"].back()["sigma_after"];
+    REQUIRE(plan["sigma_limits"].size() == last.size());
+    for (const auto& [name, sigma] : last.items()) {
+      const double position_mm = sigma["position_mm"].get<double>();
+      CHECK(plan["sigma_limits"][name]["intrinsics_exact_mm"].get<double>() <=
+            position_mm * (1 + 1e-9));
+      CHECK(plan["sigma_limits"][name]["robot_exact_mm"].get<double>() <= position_mm * (1 + 1e-9));
+      CHECK(plan["sigma_limits"][name]["robot_exact_mm"].get<double>() > 0);
+    }
+  }
   const GroundTruth sampled = LoadGroundTruth(dir + "/sampled/ground_truth.json");
   for (const std::string file : {"plan.json", "plan.csv"}) {
     INFO(file);

@@ -167,6 +167,13 @@ struct CapturePlan {
   double worst_position_mm = 0;
   std::string worst_camera;
   int candidates = 0;  ///< candidates that passed the constraints
+  /// What holds each camera's σ after the last pose back: its position σ
+  /// (mm) from the same views were its intrinsics known exactly (refined or
+  /// given alike), and were the robot's poses exact. Where the first is far
+  /// below worst_position_mm, the focal length trading against the distance
+  /// along the camera's axis is what costs (views at more varied depths, or
+  /// nearer the camera, pin it); where the second is, the robot's error.
+  std::map<std::string, double> intrinsics_exact_mm, robot_exact_mm;
 };
 
 /// Chooses poses greedily by the information they add (see the file comment),
