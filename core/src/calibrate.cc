@@ -195,7 +195,9 @@ void PrepareCameras(Calibration* c) {
       throw InputError("", "/cameras/" + std::to_string(k) + "/intrinsics",
                        "intrinsics for camera '" + c->dataset.cameras[k].name +
                            "': only --method joint estimates them from the views");
-    c->working.cameras[k] = internal::EstimateIntrinsics(c->working, static_cast<int>(k));
+    const internal::EstimatedIntrinsics estimate =
+        internal::EstimateIntrinsics(c->working, static_cast<int>(k));
+    c->working.cameras[k] = estimate.camera;
     c->estimated[k] = true;
     const Camera& camera = c->working.cameras[k];
     std::ostringstream note;
@@ -204,6 +206,9 @@ void PrepareCameras(Calibration* c) {
          << "' has no intrinsics: started from fx, fy, cx, cy = " << camera.fx() << ", "
          << camera.fy() << ", " << camera.cx() << ", " << camera.cy()
          << " estimated from its views, refined in the joint solve";
+    if (!estimate.weakly.empty())
+      note << " (its views alone determine them only weakly, " << estimate.weakly
+           << ": the robot's motions must, which the solve's σ of them then shows)";
     c->result.notes.push_back(note.str());
   }
   c->start_cameras = c->working.cameras;

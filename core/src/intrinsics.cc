@@ -203,7 +203,7 @@ std::vector<int> UndeterminedIntrinsics(const Camera& given, const Intrinsics& s
   return undetermined;
 }
 
-Camera EstimateIntrinsics(const Dataset& dataset, int k) {
+EstimatedIntrinsics EstimateIntrinsics(const Dataset& dataset, int k) {
   const Camera& camera = dataset.cameras[k];
   std::vector<const Observation*> views;
   for (const Observation& obs : dataset.observations)
@@ -248,17 +248,22 @@ Camera EstimateIntrinsics(const Dataset& dataset, int k) {
                cy = K.at<double>(1, 2);
   const double s_fx = std_intrinsics.at<double>(0), s_fy = std_intrinsics.at<double>(1);
   const double s_cx = std_intrinsics.at<double>(2), s_cy = std_intrinsics.at<double>(3);
-  const bool determined = fx > 0 && fy > 0 && std::isfinite(s_fx) && std::isfinite(s_cx) &&
-                          s_fx < 0.05 * fx && s_fy < 0.05 * fy && s_cx < 0.05 * camera.width &&
-                          s_cy < 0.05 * camera.height;
-  if (!determined) {
-    std::ostringstream why;
-    why.precision(3);
-    why << "camera '" << camera.name << "' has no intrinsics and its " << views.size()
-        << " views are too alike to estimate them (fx " << fx << " ± " << s_fx << ", cx " << cx
-        << " ± " << s_cx << " px)" << advice;
-    throw SolveError(why.str());
-  }
+  // Their σ as a share of the focal length or the image side: within
+  // kViewsAloneShare the views alone determine them; within kStartShare they
+  // are still a start the joint solve (the robot's motions: views at known
+  // distances apart fix the focal length that similar tilts trade against
+  // depth) can refine, which RefinedIntrinsicsStage then checks; beyond, a
+  // local solve from them is not to be trusted.
+  constexpr double kViewsAloneShare = 0.05, kStartShare = 0.15;
+  const double share = std::max({s_fx / fx, s_fy / fy, s_cx / camera.width, s_cy / camera.height});
+  std::ostringstream seen;
+  seen.precision(3);
+  seen << "fx " << fx << " ± " << s_fx << ", cx " << cx << " ± " << s_cx << ", cy " << cy << " ± "
+       << s_cy << " px";
+  if (!(fx > 0 && fy > 0 && std::isfinite(share) && share < kStartShare))
+    throw SolveError("camera '" + camera.name + "' has no intrinsics and its " +
+                     std::to_string(views.size()) + " views are too alike to estimate them (" +
+                     seen.str() + ")" + advice);
   std::vector<double> coeffs(5, 0.0);
   for (int i = 0; i < 5 && i < static_cast<int>(dist.total()); ++i) coeffs[i] = dist.at<double>(i);
   std::string why;
@@ -267,7 +272,9 @@ Camera EstimateIntrinsics(const Dataset& dataset, int k) {
   if (!estimated)
     throw SolveError("camera '" + camera.name +
                      "': the intrinsics estimated from its views: " + why);
-  return *estimated;
+  EstimatedIntrinsics out{*estimated, {}};
+  if (share >= kViewsAloneShare) out.weakly = seen.str();
+  return out;
 }
 
 namespace {

@@ -65,8 +65,15 @@ std::vector<int> UndeterminedIntrinsics(
 /// Intrinsics of camera `k` estimated from its views alone (closed form from
 /// the views' homographies, then OpenCV's calibration: fx, fy, cx, cy, k1,
 /// k2, p1, p2), for a camera whose dataset gives none. Throws SolveError with
-/// advice when the views are too few or too alike to determine them.
-Camera EstimateIntrinsics(const Dataset& dataset, int k);
+/// advice when the views are too few or too alike even for a start.
+struct EstimatedIntrinsics {
+  Camera camera;
+  /// Empty where the views alone determine fx, fy, cx, cy (1σ within 5 % of
+  /// the focal length and the image side); else what they give, with 1σ: a
+  /// start only, which the joint solve with the robot's motions must make good.
+  std::string weakly;
+};
+EstimatedIntrinsics EstimateIntrinsics(const Dataset& dataset, int k);
 
 /// The check of the given intrinsics after a solve: per camera, fx, fy, cx,
 /// cy as the camera's views alone say (its T_cam_mount, its own T_holder_target and
