@@ -44,7 +44,7 @@ struct Settings {
   // Plan for and solve with --refine-intrinsics focal,principal_point; and
   // also solve the planned capture with the true intrinsics and with none.
   bool refine_intrinsics = false;
-  bool no_intrinsics = false;  // the dataset gives no intrinsics (set per solve)
+  bool no_intrinsics = false;  // the dataset gives no intrinsics (set per solve and plan)
   // The solves' camera-to-camera terms (CalibrationOptions::cross_terms),
   // and so the plan's forecast (PlanCell::cross_terms).
   bool cross_terms = true;
@@ -116,9 +116,11 @@ Outcome Solve(const SyntheticScene& scene, const Settings& settings) {
 
 /// The sampler's and the planned capture solved with the true intrinsics
 /// ("true"), the given ones off and refined ("refined", what `settings`
-/// asks), off and held ("held") and none given ("none"): mean errors into
-/// `variants`, and RMS reported σ under NAME/sigma.
-void SolveVariants(const SyntheticScene& sampler, const SyntheticScene& planned, const Settings& settings,
+/// asks), off and held ("held") and none given ("none", the planned one
+/// from `planned_unknown`, its plan made for intrinsics unknown): mean errors
+/// into `variants`, and RMS reported σ under NAME/sigma.
+void SolveVariants(const SyntheticScene& sampler, const SyntheticScene& planned,
+                   const SyntheticScene& planned_unknown, const Settings& settings,
                    std::map<std::string, std::vector<double>>* variants) {
   Settings exact = settings, held = settings, none = settings;
   exact.intrinsics_off = {};
@@ -129,7 +131,8 @@ void SolveVariants(const SyntheticScene& sampler, const SyntheticScene& planned,
   for (const auto& [capture, scene] : {std::make_pair("sampler", &sampler), std::make_pair("planned", &planned)})
     for (const auto& [name, variant] : {Variant("true", &exact), Variant("refined", &settings),
                                         Variant("held", &held), Variant("none", &none)}) {
-      const Outcome o = Solve(*scene, *variant);
+      const Outcome o =
+          Solve(variant == &none && scene == &planned ? planned_unknown : *scene, *variant);
       if (!o.solved) std::fprintf(stderr, "  %s/%s: %s\n", capture, name, o.why.c_str());
       if (o.solved) {
         (*variants)[std::string(capture) + "/" + name].push_back(o.mean_mm);
@@ -170,7 +173,10 @@ CapturePlan PlanFor(const SyntheticScene& sampler, std::uint64_t seed, const Set
   rough.position_mm = s.rough_mm;
   rough.rotation_deg = s.rough_deg;
   PlanCell cell = PlanCellOfScene(sampler, rough);
-  for (PlanCamera& camera : cell.cameras) camera.refine_intrinsics = s.refine_intrinsics;
+  for (PlanCamera& camera : cell.cameras) {
+    camera.refine_intrinsics = s.refine_intrinsics || s.no_intrinsics;
+    camera.intrinsics_unknown = s.no_intrinsics;
+  }
   cell.cross_terms = s.cross_terms;  // the σ forecast for the solve as run
   PlanOptions plan_options;
   plan_options.uncertainty_margin = s.uncertainty_margin;
@@ -253,8 +259,9 @@ int main(int argc, char** argv) {
                "median of the draws within 30 % of the reported σ"});
   Table refinement({"cell", "cameras", "capture", "seeds solved", "true intrinsics mm",
                     "off, refined mm", "refined / true", "reported σ refined / true (own)",
-                    "forecast σ refined / exact", "off, held mm", "no intrinsics mm",
-                    "none / true"});
+                    "forecast σ refined / exact", "off, held mm", "no intrinsics mm", "none / true",
+                    "none / true, one capture", "reported σ none / true (own)",
+                    "forecast σ none / exact"});
   for (size_t c = 0; c < cell_names.size(); ++c) {
     const int cameras = std::stoi(camera_counts[std::min(c, camera_counts.size() - 1)]);
     std::map<std::string, std::vector<double>> variants;  // capture/variant -> mean error per seed
@@ -266,6 +273,8 @@ int main(int argc, char** argv) {
     // Each planned camera's forecast σ, and the same views' were its
     // intrinsics exact (CapturePlan::intrinsics_exact_mm).
     std::vector<double> forecast_sigma, forecast_exact_intrinsics;
+    // The same for the capture planned for intrinsics unknown.
+    std::vector<double> forecast_unknown;
     int solved = 0, failed_plans = 0, claimed_views = 0, whole_views = 0;
     for (int i = 0; i < seeds; ++i) {
       const std::uint64_t seed = first_seed + i;
@@ -294,7 +303,31 @@ int main(int argc, char** argv) {
         continue;
       }
       ++solved;
-      if (s.refine_intrinsics) SolveVariants(sampler, planned, s, &variants);
+      if (s.refine_intrinsics) {
+        // The capture planned for intrinsics unknown, for the solve given none.
+        Settings unknown = s;
+        unknown.no_intrinsics = true;
+        const CapturePlan plan_unknown = PlanFor(sampler, seed, unknown);
+        SceneOptions unknown_options = Options(cell_names[c], cameras, s.planned_poses, seed, s);
+        for (const PlannedPose& pose : plan_unknown.poses)
+          unknown_options.given_poses.push_back(pose.T_base_ee);
+        unknown_options.num_poses = static_cast<int>(unknown_options.given_poses.size());
+        // Where that plan fails, the none solve takes the capture planned above.
+        SyntheticScene planned_unknown = planned;
+        if (plan_unknown.failure.empty()) {
+          planned_unknown = MakeScene(unknown_options, target);
+          Observe(&planned_unknown, s, seed + 7919);
+          for (const auto& [name, predicted] : plan_unknown.poses.back().sigma_after)
+            forecast_unknown.push_back(predicted.position_mm);
+        }
+        SolveVariants(sampler, planned, planned_unknown, s, &variants);
+        // And that capture with the true intrinsics: the ratio on one capture.
+        Settings exact = s;
+        exact.intrinsics_off = {};
+        exact.refine_intrinsics = false;
+        if (const Outcome o = Solve(planned_unknown, exact); o.solved)
+          variants["planned/true, capture for none"].push_back(o.mean_mm);
+      }
       for (const auto& [name, predicted] : plan.poses.back().sigma_after) {
         forecast_sigma.push_back(predicted.position_mm);
         forecast_exact_intrinsics.push_back(plan.intrinsics_exact_mm.at(name));
@@ -381,19 +414,26 @@ int main(int argc, char** argv) {
         const auto it = v.find(capture + "/" + name + "/sigma");
         return it == v.end() || it->second.empty() ? NAN : Rms(it->second);
       };
-      const double sigma_refined = rms_sigma("refined"), sigma_true = rms_sigma("true");
-      const std::string sigma_ratio = std::isnan(sigma_refined / sigma_true)
-                                          ? std::string("-")
-                                          : Format("%.2fx", sigma_refined / sigma_true);
-      refinement.Add({cell_names[c], std::to_string(cameras),
-                      capture == "sampler" ? Format("sampler, %d poses", s.sampler_poses)
-                                           : Format("planned, %d poses", s.planned_poses),
-                      solved_of("true"), mm("true"), mm("refined"), ratio("refined"), sigma_ratio,
-                      capture == "sampler"
-                          ? std::string("-")
-                          : Format("%.2fx", Rms(forecast_sigma) / Rms(forecast_exact_intrinsics)),
-                      mm("held"), mm("none") + " (" + solved_of("none") + " solved)",
-                      ratio("none")});
+      auto sigma_ratio = [&](const std::string& name) {
+        const double r = rms_sigma(name) / rms_sigma("true");
+        return std::isnan(r) ? std::string("-") : Format("%.2fx", r);
+      };
+      refinement.Add(
+          {cell_names[c], std::to_string(cameras),
+           capture == "sampler" ? Format("sampler, %d poses", s.sampler_poses)
+                                : Format("planned, %d poses", s.planned_poses),
+           solved_of("true"), mm("true"), mm("refined"), ratio("refined"), sigma_ratio("refined"),
+           capture == "sampler"
+               ? std::string("-")
+               : Format("%.2fx", Rms(forecast_sigma) / Rms(forecast_exact_intrinsics)),
+           mm("held"), mm("none") + " (" + solved_of("none") + " solved)", ratio("none"),
+           std::isnan(mean("true, capture for none"))
+               ? std::string("-")
+               : Format("%.2fx", mean("none") / mean("true, capture for none")),
+           sigma_ratio("none"),
+           capture == "sampler" || forecast_unknown.empty()
+               ? std::string("-")
+               : Format("%.2fx", Rms(forecast_unknown) / Rms(forecast_exact_intrinsics))});
     }
     if (s.noise_draws > 0)
       draws.Add({cell_names[c], std::to_string(cameras), std::to_string(s.noise_draws + 1),

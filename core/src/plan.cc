@@ -101,7 +101,7 @@ void SigmaLimits(const PlanCell& cell, const std::vector<PlannedPose>& views, Ca
   PlanCell known = cell, exact = cell;
   known.intrinsics_sigma = {0.0, 0.0};
   for (PlanCamera& camera : known.cameras) {
-    camera.refine_intrinsics = false;
+    camera.refine_intrinsics = camera.intrinsics_unknown = false;
     camera.given_intrinsics_offset_px.reset();
   }
   exact.robot_sigma_mm = exact.robot_sigma_deg = 0.0;

@@ -104,6 +104,7 @@ PlanCell PlanCellOfResult(const Dataset& dataset, const CalibrationResult& resul
     camera.position_sigma_m = std::max(kMinPositionM, solved.sigma ? solved.sigma->OwnPositionMm() / 1000.0 : 0.0);
     camera.rotation_sigma_rad = std::max(kMinRotationRad, solved.sigma ? solved.sigma->OwnRotationDeg() * kDeg : 0.0);
     camera.refine_intrinsics = solved.intrinsics.has_value();
+    camera.intrinsics_unknown = camera.refine_intrinsics && !dataset.cameras[k].has_intrinsics;
     if (!camera.refine_intrinsics)
       camera.given_intrinsics_offset_px = solved.given_intrinsics_offset_px;
     cell.cameras.push_back(camera);

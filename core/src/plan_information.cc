@@ -20,7 +20,10 @@
 namespace handeye::plan_internal {
 namespace {
 
-constexpr int kIntrinsicsUnknowns = 4;  // fx fy cx cy
+/// The intrinsics a solve refines: fx fy cx cy (`--refine-intrinsics
+/// focal,principal_point`), and k1 k2 p1 p2 too where none are given (the
+/// solve estimates them all: PrepareCameras, InitialiseJointStage).
+constexpr int kRefinedIntrinsics = 4, kEstimatedIntrinsics = 8;
 /// What a pose nobody has seen is known to: its σ in the forecast.
 constexpr double kUnknownPositionM = 1.0, kUnknownRotationRad = 1.0;
 using Tangent = Eigen::Matrix<double, 7, 6, Eigen::RowMajor>;
@@ -109,7 +112,7 @@ void AddPrior(const PlanCell& cell, ModelUse use, Model* model) {
     }
     if (model->intrinsics_offset[k] < 0) continue;
     const auto sigma = internal::IntrinsicsPriorSigma(camera.camera);
-    for (int i = 0; i < kIntrinsicsUnknowns; ++i)
+    for (int i = 0; i < model->intrinsics_count[k]; ++i)
       model->prior(model->intrinsics_offset[k] + i, model->intrinsics_offset[k] + i) =
           1.0 / (sigma[i] * sigma[i]);
   }
@@ -188,8 +191,8 @@ bool ViewJacobians(const Model& model, int k, const PoseParams& T_mount_holder,
   J_u->middleCols(model.camera_offset[k], 6) = J[0] * PlusJacobian(model.T_cam_mount[k]);
   J_u->middleCols(model.target_offset, 6) = J[2] * PlusJacobian(model.T_holder_target);
   if (refined)
-    J_u->middleCols(model.intrinsics_offset[k], kIntrinsicsUnknowns) =
-        J[3].leftCols(kIntrinsicsUnknowns);
+    J_u->middleCols(model.intrinsics_offset[k], model.intrinsics_count[k]) =
+        J[3].leftCols(model.intrinsics_count[k]);
   if (given) {
     int at = model.given_offset[k];
     if (model.given_focal)  // fx, fy → fx (1 + e), fy (1 + e)
@@ -279,8 +282,12 @@ Model MakeModel(const PlanCell& cell, ModelUse use) {
   for (const PlanCamera& camera : cell.cameras) {
     model.camera_offset.push_back(model.size);
     model.size += 6;
-    model.intrinsics_offset.push_back(camera.refine_intrinsics ? model.size : -1);
-    if (camera.refine_intrinsics) model.size += kIntrinsicsUnknowns;
+    const int refined = !camera.refine_intrinsics   ? 0
+                        : camera.intrinsics_unknown ? kEstimatedIntrinsics
+                                                    : kRefinedIntrinsics;
+    model.intrinsics_offset.push_back(refined ? model.size : -1);
+    model.intrinsics_count.push_back(refined);
+    model.size += refined;
     const bool given = !camera.refine_intrinsics && model.GivenCoordinates() > 0;
     model.given_offset.push_back(given ? model.size : -1);
     if (given) model.size += model.GivenCoordinates();

@@ -62,6 +62,7 @@ PlanCamera ReadPlanCamera(const JsonReader& r, const SetupFrames& frames) {
   out.camera = ReadPlanIntrinsics(r, name, width, height, &unknown);
   out.refine_intrinsics = unknown || (r.Has("refine_intrinsics") && r.Key("refine_intrinsics").json().is_boolean() &&
                                       r.Key("refine_intrinsics").json().get<bool>());
+  out.intrinsics_unknown = unknown;
   if (r.Has("refine_intrinsics") && !r.Key("refine_intrinsics").json().is_boolean())
     throw r.Key("refine_intrinsics").Error("expected true or false");
   out.T_mount_cam = ReadPose(r.Key(frames.camera_key), true);
@@ -174,7 +175,11 @@ void SavePlanCell(const PlanCell& cell, const std::string& path) {
     nlohmann::ordered_json c;
     c["name"] = camera.camera.name;
     c["image_size"] = {camera.camera.width, camera.camera.height};
-    WriteIntrinsicsJson(camera.camera, &c);
+    if (camera.intrinsics_unknown)  // the guess ReadPlanIntrinsics makes of it
+      c["horizontal_fov_deg"] =
+          2.0 * std::atan(0.5 * camera.camera.width / camera.camera.fx()) / kDeg;
+    else
+      WriteIntrinsicsJson(camera.camera, &c);
     c["refine_intrinsics"] = camera.refine_intrinsics;
     c[frames.camera_key] = JsonFromTransform(camera.T_mount_cam);
     c["pose_uncertainty"] = {{"position_m", camera.position_sigma_m},

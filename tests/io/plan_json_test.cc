@@ -65,6 +65,22 @@ TEST_CASE("A cell file reads back as it was written", "[plan][io]") {
   CHECK(back.region.tilt_axis.isApprox(cell.region.tilt_axis));
   CHECK(back.constraints.margin_px == 30);
   CHECK(back.target->Points().size() == 28);
+  CHECK_FALSE(back.cameras[0].intrinsics_unknown);
+}
+
+TEST_CASE("A cell camera of unknown intrinsics reads back as its field of view", "[plan][io]") {
+  const std::string path = test::TempDir("cell_unknown") + "/cell.json";
+  PlanCell cell = SmallCell();
+  cell.cameras[0].camera = *Camera::Make("left", 1280, 720, 900, 900, 639.5, 359.5, {}, nullptr);
+  cell.cameras[0].intrinsics_unknown = true;
+  SavePlanCell(cell, path);
+  CHECK(test::ReadText(path).find("horizontal_fov_deg") != std::string::npos);
+  const PlanCell back = LoadPlanCell(path);
+  REQUIRE(back.cameras.size() == 1);
+  CHECK(back.cameras[0].intrinsics_unknown);
+  CHECK(back.cameras[0].refine_intrinsics);
+  CHECK(back.cameras[0].camera.fx() == Approx(900));
+  CHECK(back.cameras[0].camera.cx() == Approx(639.5));
 }
 
 TEST_CASE("A cell file's mistakes are named with their path", "[plan][io]") {

@@ -54,6 +54,9 @@ struct PlanCamera {
   /// focal,principal_point`, or intrinsics not given): views at varied
   /// depths are then needed to tell focal length from distance.
   bool refine_intrinsics = false;
+  /// None are given (with `refine_intrinsics`): the solve estimates k1, k2,
+  /// p1, p2 as well, which views towards the image's corners determine.
+  bool intrinsics_unknown = false;
   /// Its own detection noise σ per image axis (pixels) where it detects
   /// unlike the others (blur, resolution, distance); 0: the cell's
   /// PlanCell::pixel_sigma_px. `advise` sets it from each solved camera's
