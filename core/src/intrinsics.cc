@@ -255,7 +255,9 @@ EstimatedIntrinsics EstimateIntrinsics(const Dataset& dataset, int k) {
   // depth) can refine, which RefinedIntrinsicsStage then checks; beyond, a
   // local solve from them is not to be trusted.
   constexpr double kViewsAloneShare = 0.05, kStartShare = 0.15;
-  const double share = std::max({s_fx / fx, s_fy / fy, s_cx / camera.width, s_cy / camera.height});
+  double share = 0;  // NaN where a σ is (std::max would drop it)
+  for (double part : {s_fx / fx, s_fy / fy, s_cx / camera.width, s_cy / camera.height})
+    share = std::isnan(part) ? part : std::max(share, part);
   std::ostringstream seen;
   seen.precision(3);
   seen << "fx " << fx << " ± " << s_fx << ", cx " << cx << " ± " << s_cx << ", cy " << cy << " ± "
