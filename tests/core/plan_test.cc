@@ -154,6 +154,17 @@ TEST_CASE("With intrinsics unknown the planner forecasts a solve that refines th
     CHECK(unknown[k].position_mm == Approx(solved.sigma->position_mm).epsilon(0.05));
     CHECK(unknown[k].position_mm > 1.05 * focal_and_centre[k].position_mm);
   }
+  // advise plans a camera its dataset gave no intrinsics as unknown, the others as refined.
+  Dataset none = scene.dataset;
+  none.cameras[1].has_intrinsics = false;
+  options.refine_intrinsics = kFocal;
+  const CalibrationResult solved_none = Calibrate(none, options);
+  const PlanCell after = PlanCellOfResult(none, solved_none, std::nullopt);
+  REQUIRE(after.cameras.size() == 4);
+  for (size_t k = 0; k < after.cameras.size(); ++k) {
+    CHECK(after.cameras[k].refine_intrinsics);
+    CHECK(after.cameras[k].intrinsics_unknown == (k == 1));
+  }
 }
 
 TEST_CASE("The robot's error prior makes every camera's predicted sigma larger", "[plan]") {
