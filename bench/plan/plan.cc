@@ -11,16 +11,18 @@
 //
 //   bench_plan --cells small,medium,large --cameras 4,5,6 --seeds 6
 //   bench_plan --source images ...   (rendered and detected instead of projected)
+#include "handeye/core/plan.h"
+
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <random>
 
 #include "handeye/core/calibration.h"
 #include "handeye/core/checkerboard.h"
 #include "handeye/core/evaluation.h"
-#include "handeye/core/plan.h"
 #include "handeye/sim/plan_cell.h"
 #include "handeye/sim/render.h"
 #include "handeye/sim/simulation.h"
@@ -117,8 +119,9 @@ Outcome Solve(const SyntheticScene& scene, const Settings& settings) {
 /// The sampler's and the planned capture solved with the true intrinsics
 /// ("true"), the given ones off and refined ("refined", what `settings`
 /// asks), off and held ("held") and none given ("none", the planned one
-/// from `planned_unknown`, its plan made for intrinsics unknown): mean errors
-/// into `variants`, and RMS reported σ under NAME/sigma.
+/// from `planned_unknown`, its plan made for intrinsics unknown, which is also
+/// solved with the true intrinsics: "planned/true, capture for none"): mean
+/// errors into `variants`, and RMS reported σ under NAME/sigma.
 void SolveVariants(const SyntheticScene& sampler, const SyntheticScene& planned,
                    const SyntheticScene& planned_unknown, const Settings& settings,
                    std::map<std::string, std::vector<double>>* variants) {
@@ -148,6 +151,8 @@ void SolveVariants(const SyntheticScene& sampler, const SyntheticScene& planned,
       }
       (*variants)[std::string(capture) + "/" + name + "/tried"].push_back(o.solved ? 1 : 0);
     }
+  if (const Outcome o = Solve(planned_unknown, exact); o.solved)
+    (*variants)["planned/true, capture for none"].push_back(o.mean_mm);
 }
 
 SceneOptions Options(const std::string& cell, int cameras, int poses, std::uint64_t seed, const Settings& s) {
@@ -158,6 +163,15 @@ SceneOptions Options(const std::string& cell, int cameras, int poses, std::uint6
   options.seed = seed;
   options.pose_noise_mm = s.robot_mm;
   options.pose_noise_deg = s.robot_deg;
+  return options;
+}
+
+/// The scene options of a planned capture: the cell's, with the plan's poses.
+SceneOptions OptionsOfPlan(const std::string& cell, int cameras, std::uint64_t seed,
+                           const Settings& s, const CapturePlan& plan) {
+  SceneOptions options = Options(cell, cameras, s.planned_poses, seed, s);
+  for (const PlannedPose& pose : plan.poses) options.given_poses.push_back(pose.T_base_ee);
+  options.num_poses = static_cast<int>(options.given_poses.size());
   return options;
 }
 
@@ -286,9 +300,7 @@ int main(int argc, char** argv) {
                      plan.failure.c_str());
         continue;
       }
-      SceneOptions planned_options = Options(cell_names[c], cameras, s.planned_poses, seed, s);
-      for (const PlannedPose& pose : plan.poses) planned_options.given_poses.push_back(pose.T_base_ee);
-      planned_options.num_poses = static_cast<int>(planned_options.given_poses.size());
+      const SceneOptions planned_options = OptionsOfPlan(cell_names[c], cameras, seed, s, plan);
       SyntheticScene planned = MakeScene(planned_options, target);
       Observe(&sampler, s, seed);
       Observe(&planned, s, seed + 7919);
@@ -308,25 +320,16 @@ int main(int argc, char** argv) {
         Settings unknown = s;
         unknown.no_intrinsics = true;
         const CapturePlan plan_unknown = PlanFor(sampler, seed, unknown);
-        SceneOptions unknown_options = Options(cell_names[c], cameras, s.planned_poses, seed, s);
-        for (const PlannedPose& pose : plan_unknown.poses)
-          unknown_options.given_poses.push_back(pose.T_base_ee);
-        unknown_options.num_poses = static_cast<int>(unknown_options.given_poses.size());
         // Where that plan fails, the none solve takes the capture planned above.
-        SyntheticScene planned_unknown = planned;
+        std::optional<SyntheticScene> planned_unknown;
         if (plan_unknown.failure.empty()) {
-          planned_unknown = MakeScene(unknown_options, target);
-          Observe(&planned_unknown, s, seed + 7919);
+          planned_unknown =
+              MakeScene(OptionsOfPlan(cell_names[c], cameras, seed, s, plan_unknown), target);
+          Observe(&*planned_unknown, s, seed + 7919);
           for (const auto& [name, predicted] : plan_unknown.poses.back().sigma_after)
             forecast_unknown.push_back(predicted.position_mm);
         }
-        SolveVariants(sampler, planned, planned_unknown, s, &variants);
-        // And that capture with the true intrinsics: the ratio on one capture.
-        Settings exact = s;
-        exact.intrinsics_off = {};
-        exact.refine_intrinsics = false;
-        if (const Outcome o = Solve(planned_unknown, exact); o.solved)
-          variants["planned/true, capture for none"].push_back(o.mean_mm);
+        SolveVariants(sampler, planned, planned_unknown ? *planned_unknown : planned, s, &variants);
       }
       for (const auto& [name, predicted] : plan.poses.back().sigma_after) {
         forecast_sigma.push_back(predicted.position_mm);

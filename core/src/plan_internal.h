@@ -25,7 +25,7 @@ struct Model {
   int size = 0;                        ///< length of the unknowns' vector
   int target_offset = 0;               ///< T_holder_target's 6 tangent coordinates
   std::vector<int> camera_offset;      ///< T_cam_mount's 6, per camera
-  std::vector<int> intrinsics_offset;  ///< fx fy cx cy, per camera; -1: fixed
+  std::vector<int> intrinsics_offset;  ///< its intrinsics_count, per camera; -1: fixed
   std::vector<int> intrinsics_count;   ///< 4 (fx fy cx cy) or 8 (and k1 k2 p1 p2), per camera
   /// Per camera: its given intrinsics' error coordinates; -1: refined, or exact.
   std::vector<int> given_offset;
