@@ -320,8 +320,24 @@ void IntrinsicsCheckAndSigma(Calibration* c) {
         const bool model_fits = c->result.cameras[k].rms_px <= c->options.warn.max_camera_rms_px;
         (model_fits ? camera_covariance.from_intrinsics : camera_covariance.covariance)[k] +=
             found.moved * found.moved.transpose();
-        camera_covariance.intrinsics_shift.erase(k);
-        camera_covariance.intrinsics_offset[k] = found.offset_px;
+        // The groups it names: their shift is the views' alone (found.moved);
+        // the others keep what the views and the prior say of them.
+        const auto own = camera_covariance.own_intrinsics_shift.find(k);
+        const auto shift = camera_covariance.intrinsics_shift.find(k);
+        Eigen::Vector4d offset = found.offset_px;
+        if (own == camera_covariance.own_intrinsics_shift.end() ||
+            shift == camera_covariance.intrinsics_shift.end()) {
+          camera_covariance.intrinsics_shift.erase(k);
+        } else {
+          const auto suggested = camera_covariance.intrinsics_offset.find(k);
+          for (int j = 0; j < 4; ++j) {
+            if (found.Groups() & (j < 2 ? kFocal : kPrincipalPoint))
+              shift->second -= own->second.col(j);
+            else if (suggested != camera_covariance.intrinsics_offset.end())
+              offset[j] = suggested->second[j];
+          }
+        }
+        camera_covariance.intrinsics_offset[k] = offset;
       }
   }
   for (const auto& [k, moved] : camera_covariance.intrinsics_shift)

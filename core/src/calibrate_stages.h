@@ -40,6 +40,9 @@ struct Estimate {
 struct CameraCovariance {
   std::map<size_t, Eigen::Matrix<double, 6, 6>> covariance, from_intrinsics, with_target;
   std::map<size_t, Eigen::Matrix<double, 6, 1>> intrinsics_shift;
+  /// The part of it the camera's own fx, fy, cx, cy make, a column each
+  /// (Refinement::T_cam_mount_own_intrinsics_shift).
+  std::map<size_t, Eigen::Matrix<double, 6, 4>> own_intrinsics_shift;
   /// Its δc (Refinement::intrinsics_offset_px).
   std::map<size_t, Eigen::Vector4d> intrinsics_offset;
   void Add(const Refinement& computed, size_t k) {
@@ -49,6 +52,9 @@ struct CameraCovariance {
         computed.T_cam_mount_intrinsics_covariance[k].value_or(Eigen::Matrix<double, 6, 6>::Zero());
     if (computed.T_cam_mount_intrinsics_shift[k])
       intrinsics_shift[k] = *computed.T_cam_mount_intrinsics_shift[k];
+    if (k < computed.T_cam_mount_own_intrinsics_shift.size() &&
+        computed.T_cam_mount_own_intrinsics_shift[k])
+      own_intrinsics_shift[k] = *computed.T_cam_mount_own_intrinsics_shift[k];
     if (k < computed.intrinsics_offset_px.size() && computed.intrinsics_offset_px[k])
       intrinsics_offset[k] = *computed.intrinsics_offset_px[k];
     if (k < computed.T_cam_mount_target_covariance.size() &&

@@ -163,6 +163,31 @@ Eigen::VectorXd ConsiderCovariance::Suggested(const double* a, double variance_f
   return P * step;
 }
 
+Eigen::MatrixXd ConsiderCovariance::ShiftOf(const double* a, const double* block,
+                                            double variance_factor) const {
+  const int ambient = problem_->ParameterBlockSize(block),
+            tangent = problem_->ParameterBlockTangentSize(block);
+  Eigen::MatrixXd by_tangent =
+      Eigen::MatrixXd::Zero(problem_->ParameterBlockTangentSize(a), tangent);
+  if (num_posterior_ > 0) {
+    const Eigen::MatrixXd G = Sensitivity(a).leftCols(num_posterior_);
+    const Eigen::VectorXd delta_c = DeltaC(variance_factor);
+    int at = 0;
+    for (size_t b = 0; b < posterior_blocks_; ++b)
+      for (int i : consider_[b].tangent) {
+        if (consider_[b].block == block) by_tangent.col(i) = G.col(at) * delta_c[at];
+        ++at;
+      }
+  }
+  // Tangent columns to ambient ones as Suggested maps δc (a subset
+  // manifold's tangent coordinate is one ambient coordinate).
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> P =
+      Eigen::MatrixXd::Identity(ambient, tangent);
+  if (const ceres::Manifold* manifold = problem_->GetManifold(block))
+    manifold->PlusJacobian(block, P.data());
+  return by_tangent * P.transpose();
+}
+
 std::vector<int> ConsiderCovariance::Held(const double* block) const {
   for (size_t b = 0; b < posterior_blocks_; ++b)
     if (consider_[b].block == block) return consider_[b].tangent;

@@ -87,6 +87,10 @@ class ConsiderCovariance {
   /// say its held inputs are off by (their estimate less the given value; 0
   /// in coordinates not held).
   Eigen::VectorXd Suggested(const double* a, double variance_factor) const;
+  /// The part of Shift(a) each held coordinate of `block` makes: a column
+  /// per ambient coordinate of `block` (0 where it is not held), so a caller
+  /// can take out the shift of some inputs and keep the others'.
+  Eigen::MatrixXd ShiftOf(const double* a, const double* block, double variance_factor) const;
   /// The tangent coordinates of `block` held as uncertain inputs (none where it has none).
   std::vector<int> Held(const double* block) const;
 

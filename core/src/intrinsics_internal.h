@@ -91,6 +91,11 @@ struct IntrinsicsOff {
   Eigen::Matrix<double, 6, 1> moved;
   /// ΔK of those groups: the views' fx, fy, cx, cy less the given (0 for a group not named).
   Eigen::Vector4d offset_px;
+  /// The groups the warning names (kFocal, kPrincipalPoint).
+  unsigned Groups() const {
+    return (offset_px[0] != 0 || offset_px[1] != 0 ? kFocal : 0u) |
+           (offset_px[2] != 0 || offset_px[3] != 0 ? kPrincipalPoint : 0u);
+  }
 };
 std::vector<Warning> IntrinsicsWarnings(
     const Problem& problem, const std::vector<std::optional<Eigen::Isometry3d>>& T_cam_mount,

@@ -134,6 +134,7 @@ Refinement RefinePerCamera(const Problem& problem,
   out.T_cam_mount.resize(dataset.cameras.size());
   out.T_cam_mount_covariance.resize(dataset.cameras.size());
   out.T_cam_mount_intrinsics_shift.resize(dataset.cameras.size());
+  out.T_cam_mount_own_intrinsics_shift.resize(dataset.cameras.size());
   out.intrinsics_offset_px.resize(dataset.cameras.size());
   out.T_cam_mount_intrinsics_covariance.resize(dataset.cameras.size());
   out.T_holder_target = T_holder_target_start;
@@ -180,8 +181,11 @@ Refinement RefinePerCamera(const Problem& problem,
         out.T_cam_mount_covariance[k] = Eigen::Matrix<double, 6, 6>(
             covariance.Block(T_cam_mount, T_cam_mount) * variance_factor);
         out.T_cam_mount_intrinsics_shift[k] = covariance.Shift(T_cam_mount, variance_factor);
-        if (K_block && !covariance.Held(K_block).empty())
+        if (K_block && !covariance.Held(K_block).empty()) {
           out.intrinsics_offset_px[k] = covariance.Suggested(K_block, variance_factor).head<4>();
+          out.T_cam_mount_own_intrinsics_shift[k] =
+              covariance.ShiftOf(T_cam_mount, K_block, variance_factor).leftCols<4>();
+        }
         out.T_cam_mount_intrinsics_covariance[k] =
             covariance.Consider(T_cam_mount, variance_factor);
       }

@@ -256,6 +256,7 @@ void ClearCovariance(size_t cameras, size_t intrinsics, Refinement* out) {
   for (auto& s : out->intrinsics_sigma) s.fill(0.0);
   out->T_cam_mount_covariance.assign(cameras, std::nullopt);
   out->T_cam_mount_intrinsics_shift.assign(cameras, std::nullopt);
+  out->T_cam_mount_own_intrinsics_shift.assign(cameras, std::nullopt);
   out->intrinsics_offset_px.assign(cameras, std::nullopt);
   out->T_cam_mount_intrinsics_covariance.assign(cameras, std::nullopt);
   out->T_cam_mount_target_covariance.assign(cameras, std::nullopt);
@@ -331,8 +332,11 @@ void SolutionCovariance(ceres::Problem* problem, const std::vector<double*>& T_c
             (solve_covariance(T_cam_mount[k], T_holder_target) - from_refined(T_holder_target)) *
             D_T;
         out->T_cam_mount_intrinsics_shift[k] = covariance->Shift(T_cam_mount[k], variance_factor);
-        if (K[k] && !covariance->Held(K[k]).empty())
+        if (K[k] && !covariance->Held(K[k]).empty()) {
           out->intrinsics_offset_px[k] = covariance->Suggested(K[k], variance_factor).head<4>();
+          out->T_cam_mount_own_intrinsics_shift[k] =
+              covariance->ShiftOf(T_cam_mount[k], K[k], variance_factor).leftCols<4>();
+        }
         out->T_cam_mount_intrinsics_covariance[k] =
             Eigen::Matrix<double, 6, 6>(covariance->Consider(T_cam_mount[k], variance_factor)) +
             D * refined * D;

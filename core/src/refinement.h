@@ -34,6 +34,9 @@ struct Refinement {
   /// with the held given intrinsics at what their prior and the views together
   /// say (ConsiderCovariance::Shift; zero when they are exact or all refined).
   std::vector<std::optional<Eigen::Matrix<double, 6, 1>>> T_cam_mount_intrinsics_shift;
+  /// The part of that shift the camera's own held fx, fy, cx, cy make, a
+  /// column each (ConsiderCovariance::ShiftOf; where it has held intrinsics).
+  std::vector<std::optional<Eigen::Matrix<double, 6, 4>>> T_cam_mount_own_intrinsics_shift;
   /// With the covariance: per camera with held given intrinsics, what the
   /// views and their prior say its fx, fy, cx, cy are off by (estimate less
   /// given, pixels; 0 for those not held): the δc of that shift.

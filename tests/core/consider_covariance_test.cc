@@ -44,7 +44,7 @@ struct Hand {
     S = H(K, K) - P - H(K, F) * G;
     posterior = LuInverse(LuInverse(sigma) + S / variance_factor);
     const Eigen::VectorXd g = J.transpose() * r;
-    const Eigen::VectorXd delta_c = -posterior * g(K) / variance_factor;
+    delta_c = -posterior * g(K) / variance_factor;
     const int k = static_cast<int>(K.size());
     Eigen::MatrixXd error(J.cols(), k);
     error(F, Eigen::all) = G;
@@ -69,6 +69,7 @@ struct Hand {
 
   std::vector<int> free;
   Eigen::MatrixXd held, G, S, posterior;
+  Eigen::VectorXd delta_c;
   /// Over every tangent coordinate, free or held.
   Eigen::MatrixXd consider;
   Eigen::VectorXd shift;
@@ -285,4 +286,17 @@ TEST_CASE("ConsiderCovariance: some coordinates of two blocks held, one on a man
   // reads the gradient per block and coordinate.
   CHECK(covariance.Shift(px, variance_factor).isApprox(hand.shift.head(3), 1e-9));
   CHECK(covariance.Shift(pc, variance_factor).isApprox(hand.shift.segment(3, 2), 1e-9));
+  // Shift by input: a column per ambient coordinate of the held block, G's
+  // column times that input's δc, and the columns of every held block sum to
+  // the shift (c's first two ambient coordinates are not held).
+  const Eigen::MatrixXd of_c = covariance.ShiftOf(px, pc, variance_factor);
+  const Eigen::MatrixXd of_d = covariance.ShiftOf(px, pd, variance_factor);
+  REQUIRE(of_c.rows() == 3);
+  REQUIRE(of_c.cols() == 3);
+  REQUIRE(of_d.cols() == 2);
+  CHECK(of_c.leftCols(2).norm() < 1e-12);
+  CHECK(of_c.col(2).isApprox(hand.G.block(0, 0, 3, 1) * hand.delta_c[0], 1e-9));
+  CHECK(of_d.col(1).isApprox(hand.G.block(0, 2, 3, 1) * hand.delta_c[2], 1e-9));
+  CHECK((of_c.rowwise().sum() + of_d.rowwise().sum())
+            .isApprox(covariance.Shift(px, variance_factor), 1e-9));
 }

@@ -466,7 +466,10 @@ TEST_CASE("Advice keeps the shift of given intrinsics the check finds off", "[pl
   REQUIRE(cam1.given_intrinsics_offset_px);
   CHECK((*cam1.given_intrinsics_offset_px)[0] == Approx(-6.0).margin(1.5));
   CHECK((*cam1.given_intrinsics_offset_px)[1] == Approx(-6.0).margin(1.5));
-  CHECK((*cam1.given_intrinsics_offset_px)[2] == 0.0);  // the principal point not found off
+  // The principal point, not found off, at what the views and the prior
+  // say of it: noise, as for the other cameras.
+  CHECK(std::abs((*cam1.given_intrinsics_offset_px)[2]) < 3.0);
+  CHECK(std::abs((*cam1.given_intrinsics_offset_px)[3]) < 3.0);
   // The others' given values are right: what their views suggest is noise.
   for (size_t k : {0, 2, 3}) {
     REQUIRE(result.cameras[k].given_intrinsics_offset_px);

@@ -308,7 +308,7 @@ struct CameraResult {
   /// fy, cx, cy are off by (their estimate less the given value, pixels; 0
   /// for values refined or without a σ), the shift `sigma` counts: the views
   /// and that prior together, or where the intrinsics check finds a group off
-  /// (its warning) the views alone, that group's only. `advise` expects as
+  /// (its warning) the views alone for that group, the others still from both. `advise` expects as
   /// much of it to stay after more views as stands out of the views' noise.
   std::optional<Eigen::Vector4d> given_intrinsics_offset_px;
   /// With CalibrationOptions::cross_validate: leave-one-pose-out figures.
