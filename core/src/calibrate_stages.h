@@ -89,6 +89,9 @@ struct Calibration {
   /// Where the views suggested the robot's error but the exact robot was
   /// taken: that model, whose σ the solution's covariance carries.
   std::optional<RobotPrior> considered_robot;
+  /// That model was solved with the given intrinsics found off free
+  /// (RobotWithFoundIntrinsicsFree).
+  bool considered_intrinsics_free = false;
   std::map<size_t, IntrinsicsResult> refined_intrinsics;
   CameraCovariance camera_covariance;
   std::vector<CameraResult::CrossValidation> camera_validation;
