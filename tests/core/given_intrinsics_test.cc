@@ -10,6 +10,7 @@
 #include "handeye/core/checkerboard.h"
 #include "handeye/core/transform.h"
 #include "handeye/sim/synthetic.h"
+#include "support/projected_scene.h"
 
 using namespace handeye;
 
@@ -27,19 +28,6 @@ SyntheticScene GivenIntrinsicsScene(const std::string& cell, int poses, double r
   std::mt19937_64 rng(seed * 7 + 1);
   AddProjectedObservations(&scene, 0.2, &rng);
   return scene;
-}
-
-// Each camera's given focal length 1 % and principal point 3 px off, the
-// sign alternating between cameras.
-void GiveIntrinsicsOff(Dataset* dataset) {
-  for (size_t k = 0; k < dataset->cameras.size(); ++k) {
-    const double sign = k % 2 == 0 ? 1.0 : -1.0;
-    auto& p = dataset->cameras[k].params;
-    p[0] *= 1.0 + 0.01 * sign;
-    p[1] *= 1.0 + 0.01 * sign;
-    p[2] += 3.0 * sign;
-    p[3] -= 3.0 * sign;
-  }
 }
 
 // Camera's position error (mm) and rotation error (deg) against the truth.
@@ -80,7 +68,7 @@ TEST_CASE("Given intrinsics 1 % and 3 px off: sigma covers the error they cause,
   int cameras = 0, beyond_3sigma_held = 0;
   for (std::uint64_t seed : {3, 4, 5}) {
     SyntheticScene scene = GivenIntrinsicsScene("medium", 12, 0.0, 0.0, seed);
-    GiveIntrinsicsOff(&scene.dataset);
+    test::GiveIntrinsicsOff(&scene.dataset);
     CalibrationOptions held;
     held.intrinsics_sigma = GivenIntrinsicsSigma{0.0, 0.0};
     const CalibrationResult exact = Calibrate(scene.dataset, held);
@@ -143,7 +131,7 @@ TEST_CASE(
   // where the camera's residuals are above max_camera_rms_px, what the check
   // read as an offset may be a misfit of the model, and it stays the views' own.
   SyntheticScene scene = GivenIntrinsicsScene("medium", 20, 0.0, 0.0, 3);
-  GiveIntrinsicsOff(&scene.dataset);
+  test::GiveIntrinsicsOff(&scene.dataset);
   const CalibrationResult fits = Calibrate(scene.dataset, CalibrationOptions{});
   CalibrationOptions strict;
   strict.warn.max_camera_rms_px = 1e-3;  // every camera's residuals above it

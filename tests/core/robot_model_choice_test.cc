@@ -68,19 +68,6 @@ CalibrationOptions RobotSigma(double mm, double deg) {
   return options;
 }
 
-/// The given intrinsics off as bench_uncertainty's --intrinsics-off 1/3:
-/// focal lengths 1 % and principal points 3 px (even cameras +, odd −).
-void OffsetGivenIntrinsics(Dataset* dataset) {
-  for (size_t k = 0; k < dataset->cameras.size(); ++k) {
-    const double sign = k % 2 == 0 ? 1.0 : -1.0;
-    auto& p = dataset->cameras[k].params;
-    p[0] *= 1.0 + 0.01 * sign;
-    p[1] *= 1.0 + 0.01 * sign;
-    p[2] += 3.0 * sign;
-    p[3] -= 3.0 * sign;
-  }
-}
-
 }  // namespace
 
 TEST_CASE("a robot error the views show only a little is modelled where held-out poses say so",
@@ -281,7 +268,7 @@ TEST_CASE(
   render.noise_sigma = 0.1;
   render.every_view = false;  // the views without the target add nothing here
   DetectSimulated(&scene, render);
-  OffsetGivenIntrinsics(&scene.dataset);
+  test::GiveIntrinsicsOff(&scene.dataset);
   const CalibrationResult result = Calibrate(scene.dataset, CalibrationOptions{});
   REQUIRE(result.solver.model);
   CHECK(result.solver.model->chosen == "exact robot");
@@ -322,7 +309,7 @@ TEST_CASE(
       SceneOptions options = CellWithRobotError("medium", 4, poses, seed, 0.1, 0.01);
       options.pose_seed = pose_seed;
       SyntheticScene scene = test::ProjectedScene(options, 0.03, 4, seed * 31 + pose_seed);
-      OffsetGivenIntrinsics(&scene.dataset);
+      test::GiveIntrinsicsOff(&scene.dataset);
       return scene;
     };
     const SyntheticScene scene = capture(24, 0), later = capture(8, 99);

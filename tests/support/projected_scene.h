@@ -48,4 +48,17 @@ inline double MeanCameraErrorMm(const CalibrationResult& result, const GroundTru
 /// Both setups, for the tests that run each.
 inline constexpr Setup kBothSetups[] = {Setup::kEyeToHand, Setup::kEyeInHand};
 
+/// Each camera's given focal length 1 % and principal point 3 px off, the
+/// sign alternating between cameras (bench_uncertainty's --intrinsics-off 1/3).
+inline void GiveIntrinsicsOff(Dataset* dataset) {
+  for (size_t k = 0; k < dataset->cameras.size(); ++k) {
+    const double sign = k % 2 == 0 ? 1.0 : -1.0;
+    auto& p = dataset->cameras[k].params;
+    p[0] *= 1.0 + 0.01 * sign;
+    p[1] *= 1.0 + 0.01 * sign;
+    p[2] += 3.0 * sign;
+    p[3] -= 3.0 * sign;
+  }
+}
+
 }  // namespace handeye::test
