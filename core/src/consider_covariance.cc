@@ -141,51 +141,46 @@ Eigen::VectorXd ConsiderCovariance::DeltaC(double variance_factor) const {
   return -Posterior(variance_factor) * gradient_ / variance_factor;
 }
 
+std::vector<std::pair<int, int>> ConsiderCovariance::HeldAt(const double* block) const {
+  std::vector<std::pair<int, int>> held;
+  int at = 0;
+  for (size_t b = 0; b < posterior_blocks_; ++b)
+    for (int i : consider_[b].tangent) {
+      if (consider_[b].block == block) held.emplace_back(i, at);
+      ++at;
+    }
+  return held;
+}
+
+Eigen::MatrixXd ConsiderCovariance::TangentToAmbient(const double* block) const {
+  // A subset manifold's tangent coordinate is one ambient coordinate.
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> P =
+      Eigen::MatrixXd::Identity(problem_->ParameterBlockSize(block),
+                                problem_->ParameterBlockTangentSize(block));
+  if (const ceres::Manifold* manifold = problem_->GetManifold(block))
+    manifold->PlusJacobian(block, P.data());
+  return P;
+}
+
 Eigen::VectorXd ConsiderCovariance::Suggested(const double* a, double variance_factor) const {
-  const int ambient = problem_->ParameterBlockSize(a),
-            tangent = problem_->ParameterBlockTangentSize(a);
-  Eigen::VectorXd step = Eigen::VectorXd::Zero(tangent);
+  Eigen::VectorXd step = Eigen::VectorXd::Zero(problem_->ParameterBlockTangentSize(a));
   if (num_posterior_ > 0) {
     const Eigen::VectorXd delta_c = DeltaC(variance_factor);
-    int at = 0;
-    for (size_t b = 0; b < posterior_blocks_; ++b)
-      for (int i : consider_[b].tangent) {
-        if (consider_[b].block == a) step[i] = delta_c[at];
-        ++at;
-      }
+    for (const auto& [i, at] : HeldAt(a)) step[i] = delta_c[at];
   }
-  // To the ambient coordinates through the block's manifold (a subset's
-  // tangent step is its free coordinates' step).
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> P =
-      Eigen::MatrixXd::Identity(ambient, tangent);
-  if (const ceres::Manifold* manifold = problem_->GetManifold(a))
-    manifold->PlusJacobian(a, P.data());
-  return P * step;
+  return TangentToAmbient(a) * step;
 }
 
 Eigen::MatrixXd ConsiderCovariance::ShiftOf(const double* a, const double* block,
                                             double variance_factor) const {
-  const int ambient = problem_->ParameterBlockSize(block),
-            tangent = problem_->ParameterBlockTangentSize(block);
-  Eigen::MatrixXd by_tangent =
-      Eigen::MatrixXd::Zero(problem_->ParameterBlockTangentSize(a), tangent);
+  Eigen::MatrixXd by_tangent = Eigen::MatrixXd::Zero(problem_->ParameterBlockTangentSize(a),
+                                                     problem_->ParameterBlockTangentSize(block));
   if (num_posterior_ > 0) {
     const Eigen::MatrixXd G = Sensitivity(a).leftCols(num_posterior_);
     const Eigen::VectorXd delta_c = DeltaC(variance_factor);
-    int at = 0;
-    for (size_t b = 0; b < posterior_blocks_; ++b)
-      for (int i : consider_[b].tangent) {
-        if (consider_[b].block == block) by_tangent.col(i) = G.col(at) * delta_c[at];
-        ++at;
-      }
+    for (const auto& [i, at] : HeldAt(block)) by_tangent.col(i) = G.col(at) * delta_c[at];
   }
-  // Tangent columns to ambient ones as Suggested maps δc (a subset
-  // manifold's tangent coordinate is one ambient coordinate).
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> P =
-      Eigen::MatrixXd::Identity(ambient, tangent);
-  if (const ceres::Manifold* manifold = problem_->GetManifold(block))
-    manifold->PlusJacobian(block, P.data());
-  return by_tangent * P.transpose();
+  return by_tangent * TangentToAmbient(block).transpose();
 }
 
 std::vector<int> ConsiderCovariance::Held(const double* block) const {

@@ -96,6 +96,11 @@ class ConsiderCovariance {
 
  private:
   Eigen::MatrixXd Raw(const double* a, const double* b) const;
+  /// Of `block`'s held coordinates, (its tangent index, the stacked consider
+  /// index) each.
+  std::vector<std::pair<int, int>> HeldAt(const double* block) const;
+  /// d(ambient)/d(tangent) of `block` at its value: the identity without a manifold.
+  Eigen::MatrixXd TangentToAmbient(const double* block) const;
   /// H⁻¹_ac: the block's rows against every consider coordinate.
   Eigen::MatrixXd AgainstConsider(const double* a) const;
   /// G = −H⁻¹_ac (H⁻¹_cc)⁻¹: how the estimate of block a moves with each
