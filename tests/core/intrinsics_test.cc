@@ -95,9 +95,8 @@ TEST_CASE("Intrinsics 1 % off: the default solve warns, the refined one recovers
     // (10–30 mm) lies within 2σ, and σ is not uselessly wide.
     const auto errors = EvaluateAgainstTruth(off, scene.truth);
     for (const auto& camera : errors.cameras) {
-      const auto it = std::find_if(off.cameras.begin(), off.cameras.end(),
-                                   [&](const CameraResult& c) { return c.name == camera.name; });
-      REQUIRE(it != off.cameras.end());
+      const CameraResult* it = test::CameraOf(off, camera.name);
+      REQUIRE(it);
       REQUIRE(it->sigma);
       INFO(camera.name << ": error " << camera.translation_mm << " mm, sigma "
                        << it->sigma->position_mm << " mm");

@@ -3,7 +3,6 @@
 // ModelChosenRounds): where the views show the robot's error only a little,
 // held-out poses choose between the exact robot and the modelled one.
 
-#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <memory>
@@ -278,9 +277,8 @@ TEST_CASE(
   const auto errors = EvaluateAgainstTruth(result, scene.truth);
   REQUIRE(errors.cameras.size() == 4);
   for (const auto& camera : errors.cameras) {
-    const auto it = std::find_if(result.cameras.begin(), result.cameras.end(),
-                                 [&](const CameraResult& c) { return c.name == camera.name; });
-    REQUIRE(it != result.cameras.end());
+    const CameraResult* it = test::CameraOf(result, camera.name);
+    REQUIRE(it);
     REQUIRE(it->sigma);
     INFO(camera.name << ": " << camera.translation_mm << " mm, sigma " << it->sigma->position_mm);
     // Within 2σ, and σ not four times the error.
@@ -319,9 +317,8 @@ TEST_CASE(
     CHECK(NotesWith(result, "the views find given intrinsics off") == 1);
     const auto errors = EvaluateAgainstTruth(result, scene.truth);
     for (const auto& camera : errors.cameras) {
-      const auto it = std::find_if(result.cameras.begin(), result.cameras.end(),
-                                   [&](const CameraResult& c) { return c.name == camera.name; });
-      REQUIRE(it != result.cameras.end());
+      const CameraResult* it = test::CameraOf(result, camera.name);
+      REQUIRE(it);
       REQUIRE(it->sigma);
       INFO(camera.name << ": " << camera.translation_mm << " mm, sigma " << it->sigma->position_mm
                        << ", own " << it->sigma->OwnPositionMm());

@@ -48,6 +48,13 @@ inline double MeanCameraErrorMm(const CalibrationResult& result, const GroundTru
 /// Both setups, for the tests that run each.
 inline constexpr Setup kBothSetups[] = {Setup::kEyeToHand, Setup::kEyeInHand};
 
+/// The result's camera named `name`; nullptr where it has none.
+inline const CameraResult* CameraOf(const CalibrationResult& result, const std::string& name) {
+  for (const CameraResult& camera : result.cameras)
+    if (camera.name == name) return &camera;
+  return nullptr;
+}
+
 /// Each camera's given focal length 1 % and principal point 3 px off, the
 /// sign alternating between cameras (bench_uncertainty's --intrinsics-off 1/3).
 inline void GiveIntrinsicsOff(Dataset* dataset) {
