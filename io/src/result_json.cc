@@ -45,8 +45,13 @@ nlohmann::ordered_json Matrix6Json(const Eigen::Matrix<double, 6, 6>& m) {
 }
 
 nlohmann::ordered_json SigmaJson(const PoseUncertainty& sigma) {
-  nlohmann::ordered_json out = {
-      {"position_mm", sigma.position_mm}, {"rotation_deg", sigma.rotation_deg}, {"covariance", Matrix6Json(sigma.covariance)}};
+  // The views' own part, what a capture again with the same intrinsics
+  // would scatter by: the yardstick of a leave-out spread (bench/leave-out).
+  nlohmann::ordered_json out = {{"position_mm", sigma.position_mm},
+                                {"rotation_deg", sigma.rotation_deg},
+                                {"own_position_mm", sigma.OwnPositionMm()},
+                                {"own_rotation_deg", sigma.OwnRotationDeg()},
+                                {"covariance", Matrix6Json(sigma.covariance)}};
   if (!sigma.from_given_intrinsics.isZero()) out["covariance_from_given_intrinsics"] = Matrix6Json(sigma.from_given_intrinsics);
   if (sigma.covariance_with_target)
     out["covariance_with_target"] = Matrix6Json(*sigma.covariance_with_target);

@@ -22,7 +22,10 @@ py::object SigmaDict(const std::optional<PoseUncertainty>& sigma) {
   py::dict d;
   d["position_mm"] = sigma->position_mm;
   d["rotation_deg"] = sigma->rotation_deg;
+  d["own_position_mm"] = sigma->OwnPositionMm();
+  d["own_rotation_deg"] = sigma->OwnRotationDeg();
   d["covariance"] = MatrixArray(sigma->covariance);
+  d["covariance_from_given_intrinsics"] = MatrixArray(sigma->from_given_intrinsics);
   return std::move(d);
 }
 
@@ -104,7 +107,10 @@ void AddResult(py::module_& m) {
       .def_readonly("outliers", &CameraResult::outliers)
       .def_property_readonly(
           "sigma", [](const CameraResult& c) { return SigmaDict(c.sigma); },
-          "1σ: position_mm, rotation_deg and the 6×6 covariance (mm, deg); None when unknown.")
+          "1σ: position_mm, rotation_deg and the 6×6 covariance (mm, deg); own_position_mm, "
+          "own_rotation_deg without covariance_from_given_intrinsics, the part the given "
+          "intrinsics' uncertainty adds (what a capture again with the same intrinsics scatters "
+          "by); None when unknown.")
       .def_property_readonly(
           "given_intrinsics_offset_px",
           [](const CameraResult& c) -> py::object {

@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
+#include "handeye/io/result_json.h"
+
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "handeye/core/error.h"
 #include "handeye/core/transform.h"
-#include "handeye/io/result_json.h"
 #include "io_fixtures.h"
 #include "support/test_support.h"
 
@@ -123,6 +125,12 @@ TEST_CASE("Result files round trip exactly, both setups", "[result]") {
     CHECK(*back.cameras[0].sigma->covariance_with_target ==
           *r.cameras[0].sigma->covariance_with_target);
     CHECK(back.cameras[0].sigma->position_mm == 0.245);
+    // The views' own part, without what the given intrinsics add: half the
+    // sample's covariance, whose position variances are 0.01, 0.02, 0.03.
+    const auto written = nlohmann::json::parse(text)["cameras"]["cam0"]["sigma"];
+    CHECK(written["own_position_mm"].get<double>() == Approx(std::sqrt(0.03)));
+    CHECK(written["own_rotation_deg"].get<double>() ==
+          Approx(std::sqrt(0.5 * (0.04 + 0.05 + 0.06))));
     REQUIRE(back.target_sigma);
     CHECK_FALSE(back.target_sigma->covariance_with_target);
     CHECK(back.target_sigma->from_given_intrinsics == r.target_sigma->from_given_intrinsics);

@@ -53,6 +53,11 @@ def test_the_result_gives_numpy_transforms_sigma_and_the_json_it_saves(cell, tmp
         error_mm = 1000 * np.linalg.norm(camera.T_cam[:3, 3] - T_true[:3, 3])
         assert error_mm < 4 * camera.sigma["position_mm"] + 1.0
         assert camera.sigma["covariance"].shape == (6, 6)
+        # the views' own part: the whole less what the given intrinsics' uncertainty adds
+        own = camera.sigma["covariance"] - camera.sigma["covariance_from_given_intrinsics"]
+        assert camera.sigma["own_position_mm"] == pytest.approx(np.sqrt(np.trace(own[:3, :3])))
+        assert camera.sigma["own_rotation_deg"] == pytest.approx(np.sqrt(np.trace(own[3:, 3:])))
+        assert 0 < camera.sigma["own_position_mm"] < camera.sigma["position_mm"]
         offset = camera.given_intrinsics_offset_px  # the cell's given intrinsics are right
         assert set(offset) == {"fx", "fy", "cx", "cy"} and max(abs(v) for v in offset.values()) < 5
         assert np.array_equal(result.T_cam[camera.name], camera.T_cam)
