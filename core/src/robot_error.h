@@ -40,13 +40,12 @@ struct RobotPrior {
     return settled_sigma_m > 0 && settled_sigma_rad > 0 &&
            (settled_sigma_m != sigma_m || settled_sigma_rad != sigma_rad);
   }
+  /// The σ the solved pose blocks show where it was settled, else the prior's.
+  double SettledSigmaM() const { return settled_sigma_m > 0 ? settled_sigma_m : sigma_m; }
+  double SettledSigmaRad() const { return settled_sigma_rad > 0 ? settled_sigma_rad : sigma_rad; }
   /// The robot's error the covariance of the solution assumes.
-  double CovarianceSigmaM() const {
-    return (settled_sigma_m > 0 ? settled_sigma_m : sigma_m) * settled_dof_scale;
-  }
-  double CovarianceSigmaRad() const {
-    return (settled_sigma_rad > 0 ? settled_sigma_rad : sigma_rad) * settled_dof_scale;
-  }
+  double CovarianceSigmaM() const { return SettledSigmaM() * settled_dof_scale; }
+  double CovarianceSigmaRad() const { return SettledSigmaRad() * settled_dof_scale; }
   /// The covariance assumes another σ than the solve weighed the records with.
   bool CovarianceApart() const {
     return CovarianceSigmaM() != sigma_m || CovarianceSigmaRad() != sigma_rad;

@@ -231,12 +231,13 @@ bool RobotSigmaPlausible(double sigma_m, double sigma_rad) {
   return sigma_m * 1000.0 <= kMaxRobotSigmaMm && sigma_rad / kDeg <= kMaxRobotSigmaDeg;
 }
 
+bool RobotPlausible(const RobotPrior& robot) {
+  return RobotSigmaPlausible(robot.SettledSigmaM(), robot.SettledSigmaRad());
+}
+
 void CheckRobotSigma(const RobotPrior& robot) {
-  // The σ the solved pose blocks show where it was settled, else the prior's.
-  const double sigma_m = robot.settled_sigma_m > 0 ? robot.settled_sigma_m : robot.sigma_m;
-  const double sigma_rad = robot.settled_sigma_rad > 0 ? robot.settled_sigma_rad : robot.sigma_rad;
-  const double mm = sigma_m * 1000.0, deg = sigma_rad / kDeg;
-  if (RobotSigmaPlausible(sigma_m, sigma_rad)) return;
+  if (RobotPlausible(robot)) return;
+  const double mm = robot.SettledSigmaM() * 1000.0, deg = robot.SettledSigmaRad() / kDeg;
   throw SolveError(
       "the robot's own pose error would have to be σ " + Fixed(mm, 2) + " mm and " + Fixed(deg, 3) +
       " deg per axis to explain the views: more than any industrial robot (" +

@@ -62,6 +62,10 @@ std::string CheckSetupMistakes(const Problem& problem, int threads);
 /// robot can have: ≤ 5 mm and ≤ 0.5°.
 bool RobotSigmaPlausible(double sigma_m, double sigma_rad);
 
+/// RobotSigmaPlausible of the σ the robot's solved pose blocks show where it
+/// was settled, else of the prior's: the σ CheckRobotSigma judges.
+bool RobotPlausible(const RobotPrior& robot);
+
 /// Throws SolveError when the robot's pose error, estimated from the views,
 /// is larger than any industrial robot's (σ > 5 mm or > 0.5° per axis): a
 /// misfit of that size is a setup mistake the checks above did not name, not
