@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 # Used by bench/setup-mistakes/run: apply_mistake.py IN OUT MISTAKE (inverted, setup, transposed,
-# xyzw_as_wxyz, wxyz_as_xyzw, m_as_mm, mm_as_m, square=S, shift, same_image).
+# xyzw_as_wxyz, wxyz_as_xyzw, m_as_mm, mm_as_m, scale=F, shift, same_image). scale=F declares the
+# target F times its size: every size key it has (square, marker, tag) times F.
 """Makes one usual setup mistake to a handeye-observations/1 file (4x4 T_base_ee poses)."""
 import json, math, sys
 
@@ -52,8 +53,11 @@ elif mistake == 'wxyz_as_xyzw':  # file w,x,y,z read as x,y,z,w
 elif mistake in ('m_as_mm', 'mm_as_m'):
     f = 0.001 if mistake == 'm_as_mm' else 1000.0
     Ts = [[row[:3] + [row[3] * f] for row in T[:3]] + [[0, 0, 0, 1]] for T in Ts]
-elif mistake.startswith('square='):
-    d['target']['square_size_m'] = float(mistake.split('=')[1])
+elif mistake.startswith('scale='):
+    f = float(mistake.split('=')[1])
+    for key in ('square_size_m', 'marker_size_m', 'tag_size_m'):
+        if key in d['target']:
+            d['target'][key] *= f
 elif mistake == 'shift':
     Ts = Ts[1:] + Ts[:1]
 elif mistake == 'same_image':
