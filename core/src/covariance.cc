@@ -6,6 +6,7 @@
 #include <ceres/cost_function.h>
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace handeye::internal {
@@ -92,6 +93,30 @@ double VarianceFactor(ceres::Problem* problem, const std::vector<ceres::Residual
   problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
   const int redundancy = problem->NumResiduals() - FreeTangentSize(*problem);
   return (redundancy > 0 ? 2.0 * cost / redundancy : 1.0) * ViewDesignFactor(*problem, views);
+}
+
+double StudentUpperQuantile(double tail, double dof) {
+  const double log_norm =
+      std::lgamma(0.5 * (dof + 1)) - std::lgamma(0.5 * dof) - 0.5 * std::log(dof * M_PI);
+  // 1/2 less the density's integral over [0, t], by Simpson's rule.
+  const auto upper_tail = [&](double t) {
+    constexpr int kSteps = 2000;  // even
+    const double h = t / kSteps;
+    double sum = 0;
+    for (int i = 0; i <= kSteps; ++i) {
+      const double x = i * h;
+      const double density = std::exp(log_norm - 0.5 * (dof + 1) * std::log1p(x * x / dof));
+      sum += density * (i == 0 || i == kSteps ? 1 : i % 2 ? 4 : 2);
+    }
+    return 0.5 - sum * h / 3.0;
+  };
+  double low = 0, high = 4;
+  while (upper_tail(high) > tail) low = high, high *= 2;
+  for (int i = 0; i < 50; ++i) {  // bisection, to far below any threshold's meaning
+    const double mid = 0.5 * (low + high);
+    (upper_tail(mid) > tail ? low : high) = mid;
+  }
+  return 0.5 * (low + high);
 }
 
 }  // namespace handeye::internal

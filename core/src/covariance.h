@@ -50,4 +50,10 @@ class BlockCovariance {
 /// residuals).
 double VarianceFactor(ceres::Problem* problem, const std::vector<ceres::ResidualBlockId>& views);
 
+/// The t beyond which Student's t distribution with `dof` (> 0) degrees of
+/// freedom leaves the upper tail `tail` (0 < tail < 0.5): what a difference
+/// over its σ must exceed where σ² was estimated from `dof` degrees of
+/// freedom (a variance factor, a variance component).
+double StudentUpperQuantile(double tail, double dof);
+
 }  // namespace handeye::internal

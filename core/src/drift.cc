@@ -11,8 +11,12 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <limits>
 #include <optional>
+#include <set>
 #include <sstream>
+#include <string>
 #include <vector>
 
 #include "chain_problem.h"
@@ -55,6 +59,11 @@ bool DriftResult::AnyNotAssessed() const {
 
 namespace {
 
+/// The fewest degrees of freedom RobotSigmaDof gives: with fewer poses than
+/// unknowns the σ is SettleRobotSigma's at its widest, and known to no better
+/// than Student's t with 3 (3σ becomes 9.2σ).
+constexpr double kMinRobotSigmaDof = 3;
+
 /// The robot's pose error (σ mm, deg) new poses carry: the one the cameras'
 /// sigma assumes (the solved pose blocks'; results written before it, the
 /// prior the solve weighed with) or, where the exact poses were chosen over a
@@ -73,6 +82,30 @@ std::pair<double, double> RobotSigmaOf(const SolverSummary& solver) {
     for (auto c = solver.model->candidates.rbegin(); c != solver.model->candidates.rend(); ++c)
       if (c->robot_sigma_mm > 0) return {c->robot_sigma_mm, c->robot_sigma_deg};
   return {0.0, 0.0};
+}
+
+/// The degrees of freedom the robot's σ that `check` carries (RobotSigmaOf)
+/// was estimated from: REML's count of SettleRobotSigma, 3 per axis group of
+/// each pose the calibration used, less those its cameras, target and
+/// refined intrinsics took; infinite where the σ was given, or is none.
+double RobotSigmaDof(const CalibrationResult& calibration) {
+  if (RobotSigmaOf(calibration.solver).first <= 0 || calibration.options.robot_sigma_mm >= 0)
+    return std::numeric_limits<double>::infinity();
+  std::set<std::string> poses;
+  for (const ViewResult& view : calibration.views)
+    if (view.used) poses.insert(view.pose_id);
+  double taken = 6;  // the target
+  for (const CameraResult& cam : calibration.cameras)
+    if (cam.calibrated) taken += 6 + (cam.intrinsics ? cam.intrinsics->refined.size() : 0);
+  return std::max(3.0 * (static_cast<double>(poses.size()) - taken / 6.0), kMinRobotSigmaDof);
+}
+
+/// How many σ a difference must exceed to be as unlikely from noise alone
+/// as beyond `sigmas` of a normal, where σ was estimated from `dof` degrees
+/// of freedom (Student's t).
+double StudentThreshold(double sigmas, double dof) {
+  if (!std::isfinite(dof)) return sigmas;
+  return internal::StudentUpperQuantile(0.5 * std::erfc(sigmas / std::sqrt(2.0)), dof);
 }
 
 /// How the least-squares estimate of T_cam_mount (tangent) moves with the
@@ -202,27 +235,39 @@ void EstimateAgain(const internal::Problem& problem, int k, const std::vector<in
 }
 
 /// The verdict on a re-estimated camera, and the warning when it cannot tell.
-void Judge(const DriftOptions& options, const CameraResult& cam, CameraDrift* drift_out,
+/// `dof`: what the robot's σ in the check's noise was estimated from
+/// (RobotSigmaDof).
+void Judge(const DriftOptions& options, const CameraResult& cam, double dof, CameraDrift* drift_out,
            std::vector<Warning>* warnings) {
   CameraDrift& drift = *drift_out;
   // Moved: beyond the tolerance, and by more than the two estimates' noise
-  // (3σ), so that a few noisy views do not call a camera moved.
+  // (3σ, or as unlikely where the robot's σ is estimated from few poses),
+  // so that a few noisy views do not call a camera moved.
+  const double moved_at = StudentThreshold(3.0, dof);
+  const auto beyond_sigmas = [&](double sigmas) {
+    return drift.moved_mm > sigmas * drift.sigma_mm || drift.moved_deg > sigmas * drift.sigma_deg;
+  };
   const bool beyond =
       drift.moved_mm > options.tolerance_mm || drift.moved_deg > options.tolerance_deg;
-  const bool significant =
-      drift.moved_mm > 3.0 * drift.sigma_mm || drift.moved_deg > 3.0 * drift.sigma_deg;
+  const bool significant = beyond_sigmas(moved_at);
   // Beyond a tolerance but within the noise: the check cannot tell either way.
   drift.verdict = beyond && significant ? "moved" : beyond ? "not_assessed" : "ok";
-  // Within 2σ the difference is what the noise alone gives: no hint of a
-  // move, only a check too coarse for the tolerance (below).
-  const bool hint =
-      drift.moved_mm > 2.0 * drift.sigma_mm || drift.moved_deg > 2.0 * drift.sigma_deg;
+  // Within 2σ (or its like) the difference is what the noise alone gives: no
+  // hint of a move, only a check too coarse for the tolerance (below).
+  const bool hint = beyond_sigmas(StudentThreshold(2.0, dof));
   std::ostringstream w;
   w.precision(3);
   if (beyond && !significant && hint) {
     w << "seems " << drift.moved_mm << " mm / " << drift.moved_deg
-      << " deg from its calibrated pose, within 3σ of the noise of the check (± " << drift.sigma_mm
-      << " mm / ± " << drift.sigma_deg << " deg)";
+      << " deg from its calibrated pose, within ";
+    if (std::isfinite(dof))
+      w << std::setprecision(2) << std::fixed << moved_at << std::defaultfloat
+        << std::setprecision(3)
+        << "σ of the noise of the check (as unlikely as 3σ where the robot's σ is estimated from "
+        << dof << " degrees of freedom";
+    else
+      w << "3σ of the noise of the check (";
+    w << "; ± " << drift.sigma_mm << " mm / ± " << drift.sigma_deg << " deg)";
     drift.reason = w.str();
     warnings->push_back(CameraWarning(
         WarningKind::kDriftWithinNoise, cam.name,
@@ -271,6 +316,7 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
   CalibrationOptions calibration_options;
   internal::Problem problem = internal::BuildProblem(dataset, calibration_options);
   DriftResult out;
+  const double dof = RobotSigmaDof(calibration);
   for (const CameraResult& cam : calibration.cameras) {
     CameraDrift drift;
     drift.name = cam.name;
@@ -292,7 +338,7 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
       continue;
     }
     EstimateAgain(problem, k, views, cam, calibration, options.threads, &drift);
-    Judge(options, cam, &drift, &out.warnings);
+    Judge(options, cam, dof, &drift, &out.warnings);
     out.cameras.push_back(drift);
   }
   return out;

@@ -239,3 +239,17 @@ TEST_CASE(
   REQUIRE(std::abs(predicted_rho) > 0.5);
   CHECK(sample_rho == Approx(predicted_rho).margin(0.15));
 }
+
+TEST_CASE("Student's t quantiles are those of the tables", "[covariance]") {
+  using handeye::internal::StudentUpperQuantile;
+  // One-sided upper tails from the standard tables, and the Cauchy's
+  // tan(π/4) at 1 degree of freedom.
+  CHECK(StudentUpperQuantile(0.001, 12) == Approx(3.930).margin(5e-4));
+  CHECK(StudentUpperQuantile(0.005, 30) == Approx(2.750).margin(5e-4));
+  CHECK(StudentUpperQuantile(0.025, 3) == Approx(3.182).margin(5e-4));
+  CHECK(StudentUpperQuantile(0.0005, 5) == Approx(6.869).margin(5e-4));
+  CHECK(StudentUpperQuantile(0.25, 1) == Approx(1.0).margin(1e-6));
+  // Many degrees of freedom: the normal's 3σ tail.
+  CHECK(StudentUpperQuantile(0.5 * std::erfc(3.0 / std::sqrt(2.0)), 1e6) ==
+        Approx(3.0).margin(1e-3));
+}

@@ -25,7 +25,8 @@ struct DriftOptions {
 /// One camera's verdict.
 struct CameraDrift {
   std::string name;
-  /// "moved": beyond a tolerance and by more than 3σ; "ok": within the
+  /// "moved": beyond a tolerance and by more than 3σ (or as unlikely, where
+  /// σ holds a robot σ estimated from few poses: Student's t); "ok": within the
   /// tolerances; "not_assessed": the new data cannot tell (`reason` says why:
   /// too few new views, not calibrated in the result, or a move beyond a
   /// tolerance that the check's noise could explain).
