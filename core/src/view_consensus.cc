@@ -137,14 +137,44 @@ void PnpSigmas(const Problem& problem, const std::vector<int>& ids, const Eigen:
   }
 }
 
-/// Why the vote left `view` out: its support against the camera's median.
-std::string DisagreementReason(const View& view, double support, double median_support) {
+/// A view the robot-motion vote left out: its support against its camera's median.
+struct Disagreement {
+  int view = 0;
+  double support = 0, median_support = 0;
+};
+
+/// What the votes of every camera said (RejectInconsistentMotions).
+struct VoteOutcome {
+  std::vector<Disagreement> left_out;
+  std::vector<bool> agreed;  ///< per view: its camera voted and it agreed with most of the others
+};
+
+/// Why the vote left a view out. Its robot record is the pose's, which other
+/// cameras' views of the same pose test too: where one of them agreed with
+/// its own camera's views, the record holds, and the view is what is off.
+std::string DisagreementReason(const Problem& problem, const Disagreement& d,
+                               const VoteOutcome& votes) {
+  const View& view = problem.views[d.view];
+  std::string confirmed_by;
+  for (size_t i = 0; i < problem.views.size() && confirmed_by.empty(); ++i)
+    if (votes.agreed[i] && problem.views[i].pose == view.pose &&
+        problem.views[i].camera != view.camera)
+      confirmed_by = problem.dataset->cameras[problem.views[i].camera].name;
   std::ostringstream why;
-  why << "its robot motion agrees with " << std::lround(100.0 * support)
-      << " % of the camera's other views (most agree with " << std::lround(100.0 * median_support)
-      << " %): the robot record likely belongs to another pose or time";
+  why << "its robot motion agrees with " << std::lround(100.0 * d.support)
+      << " % of the camera's other views (most agree with " << std::lround(100.0 * d.median_support)
+      << " %)";
   // Beyond 60° the corners are squeezed to half and less across the tilt.
   const double angle_deg = ViewAngle(*view.T_cam_target, view.p_target) / kDeg;
+  if (!confirmed_by.empty()) {
+    why << ", where camera '" << confirmed_by
+        << "' finds the same robot record agree with its own views: the record holds, and this "
+           "view's corners or the pose they give are off (blur, glare, a target partly hidden";
+    if (angle_deg > 60.0) why << ", or seen " << std::lround(angle_deg) << " deg from face-on";
+    why << ")";
+    return why.str();
+  }
+  why << ": the robot record likely belongs to another pose or time";
   if (angle_deg > 60.0)
     why << ", or the target, seen " << std::lround(angle_deg)
         << " deg from face-on, gave a poor pose";
@@ -152,12 +182,13 @@ std::string DisagreementReason(const View& view, double support, double median_s
 }
 
 /// The robot-motion vote among one camera's used views `ids`
-/// (RejectInconsistentMotions); returns the number of views it left out.
-int VoteCamera(Problem* problem, const std::vector<int>& ids, const Eigen::Vector3d& centre,
-               double pixel_sigma_px, const std::optional<Eigen::Isometry3d>& half_turn) {
-  int rejected = 0;
+/// (RejectInconsistentMotions): the views it left out, and those that agreed,
+/// into `votes`.
+void VoteCamera(Problem* problem, const std::vector<int>& ids, const Eigen::Vector3d& centre,
+                double pixel_sigma_px, const std::optional<Eigen::Isometry3d>& half_turn,
+                VoteOutcome* votes) {
   const size_t n = ids.size();
-  if (n < 4) return 0;  // three views: one pair against each; no majority to speak of
+  if (n < 4) return;  // three views: one pair against each; no majority to speak of
   // What each view's rotation (σ per axis, rad) and position (σ, m) from
   // PnP may be off by its own corners' noise alone: much more for a board
   // seen obliquely or small.
@@ -205,9 +236,12 @@ int VoteCamera(Problem* problem, const std::vector<int>& ids, const Eigen::Vecto
   std::vector<double> support(n);
   for (size_t a = 0; a < n; ++a) support[a] = support_of(mismatch[a]);
   // Only a clear majority votes a view out.
-  if (Median(support) < 0.5) return 0;
+  if (Median(support) < 0.5) return;
   for (size_t a = 0; a < n; ++a) {
-    if (support[a] >= 0.5) continue;
+    if (support[a] >= 0.5) {
+      votes->agreed[ids[a]] = true;
+      continue;
+    }
     View& view = problem->views[ids[a]];
     // A 180°-ambiguous board numbered the other way round in this image
     // (its detector cannot tell): its pose is off by the half turn, which
@@ -218,24 +252,25 @@ int VoteCamera(Problem* problem, const std::vector<int>& ids, const Eigen::Vecto
     }
     view.used = false;
     view.inconsistent = true;
-    view.rejected_because = DisagreementReason(view, support[a], Median(support));
-    ++rejected;
+    votes->left_out.push_back({ids[a], support[a], Median(support)});
   }
-  return rejected;
 }
 
 }  // namespace
 
 int RejectInconsistentMotions(Problem* problem) {
-  int rejected = 0;
   const Eigen::Vector3d centre = TargetCentre(*problem->dataset->target);
   const std::vector<double> pixel_sigma_px = CameraSigmasPx(*problem);
   const std::optional<Eigen::Isometry3d> half_turn = HalfTurnSymmetry(*problem->dataset->target);
   if (half_turn) NumberViewsAlike(problem, *half_turn);
+  VoteOutcome votes;
+  votes.agreed.assign(problem->views.size(), false);
   for (size_t k = 0; k < problem->camera_views.size(); ++k)
-    rejected += VoteCamera(problem, problem->camera_views[k], centre, pixel_sigma_px[k], half_turn);
-  if (rejected) IndexUsedViews(problem);
-  return rejected;
+    VoteCamera(problem, problem->camera_views[k], centre, pixel_sigma_px[k], half_turn, &votes);
+  for (const Disagreement& d : votes.left_out)
+    problem->views[d.view].rejected_because = DisagreementReason(*problem, d, votes);
+  if (!votes.left_out.empty()) IndexUsedViews(problem);
+  return static_cast<int>(votes.left_out.size());
 }
 
 std::vector<int> ViewsOffTheSolution(
