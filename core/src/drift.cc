@@ -264,10 +264,10 @@ void Judge(const DriftOptions& options, const CameraResult& cam, double dof, Cam
       w << std::setprecision(2) << std::fixed << moved_at << std::defaultfloat
         << std::setprecision(3)
         << "σ of the noise of the check (as unlikely as 3σ where the robot's σ is estimated from "
-        << dof << " degrees of freedom";
+        << dof << " degrees of freedom; ";
     else
       w << "3σ of the noise of the check (";
-    w << "; ± " << drift.sigma_mm << " mm / ± " << drift.sigma_deg << " deg)";
+    w << "± " << drift.sigma_mm << " mm / ± " << drift.sigma_deg << " deg)";
     drift.reason = w.str();
     warnings->push_back(CameraWarning(
         WarningKind::kDriftWithinNoise, cam.name,

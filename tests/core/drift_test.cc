@@ -65,7 +65,7 @@ TEST_CASE("check names the camera that was knocked and clears the others", "[dri
     const bool hint = c.moved_mm > 2.0 * c.sigma_mm || c.moved_deg > 2.0 * c.sigma_deg;
     const bool seems = c.reason.find("seems") != std::string::npos;
     if (!within)
-      CHECK_THAT(c.reason, Catch::Matchers::Contains(seems ? "σ of the noise of the check"
+      CHECK_THAT(c.reason, Catch::Matchers::Contains(seems ? "σ of the noise of the check ("
                                                            : "too coarse to tell a move of 1 mm"));
     if (seems) CHECK(hint);
     // 3 views of 8 noisy poses tell a camera's pose to ≈ 0.5 mm, the
@@ -297,5 +297,12 @@ TEST_CASE("check asks more than 3 sigma where the robot's sigma was estimated fr
   CHECK(known.verdict == "moved");
   CHECK(estimated.verdict == "not_assessed");
   CHECK_THAT(estimated.reason, Catch::Matchers::Contains("3.18σ of the noise of the check") &&
-                                   Catch::Matchers::Contains("from 45 degrees of freedom"));
+                                   Catch::Matchers::Contains("from 45 degrees of freedom; ± "));
+  // 2.5σ with the σ given: a hint, within a normal's 3σ.
+  given.cameras[1].T_cam.translation().x() -= 0.59 * found.sigma_mm / 1000.0;
+  const CameraDrift hinted = CheckDrift(later, given, options).cameras[1];
+  CHECK(hinted.verdict == "not_assessed");
+  CHECK_THAT(hinted.reason,
+             Catch::Matchers::StartsWith("seems ") &&
+                 Catch::Matchers::Contains("within 3σ of the noise of the check (± "));
 }
