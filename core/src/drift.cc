@@ -85,19 +85,25 @@ std::pair<double, double> RobotSigmaOf(const SolverSummary& solver) {
 }
 
 /// The degrees of freedom the robot's σ that `check` carries (RobotSigmaOf)
-/// was estimated from: REML's count of SettleRobotSigma, 3 per axis group of
-/// each pose the calibration used, less those its cameras, target and
-/// refined intrinsics took; infinite where the σ was given, or is none.
+/// was estimated from: 3 per axis group of each record SettleRobotSigma's
+/// count keeps (RobotRecordsKept over the poses the calibration used);
+/// infinite where the σ was given, or is none.
 double RobotSigmaDof(const CalibrationResult& calibration) {
   if (RobotSigmaOf(calibration.solver).first <= 0 || calibration.options.robot_sigma_mm >= 0)
     return std::numeric_limits<double>::infinity();
   std::set<std::string> poses;
   for (const ViewResult& view : calibration.views)
     if (view.used) poses.insert(view.pose_id);
-  double taken = 6;  // the target
-  for (const CameraResult& cam : calibration.cameras)
-    if (cam.calibrated) taken += 6 + (cam.intrinsics ? cam.intrinsics->refined.size() : 0);
-  return std::max(3.0 * (static_cast<double>(poses.size()) - taken / 6.0), kMinRobotSigmaDof);
+  int cameras = 0;
+  size_t free_intrinsics = 0;
+  for (const CameraResult& cam : calibration.cameras) {
+    if (!cam.calibrated) continue;
+    ++cameras;
+    if (cam.intrinsics) free_intrinsics += cam.intrinsics->refined.size();
+  }
+  return std::max(
+      3.0 * internal::RobotRecordsKept(static_cast<int>(poses.size()), cameras, free_intrinsics),
+      kMinRobotSigmaDof);
 }
 
 /// How many σ a difference must exceed to be as unlikely from noise alone
@@ -106,6 +112,23 @@ double RobotSigmaDof(const CalibrationResult& calibration) {
 double StudentThreshold(double sigmas, double dof) {
   if (!std::isfinite(dof)) return sigmas;
   return internal::StudentUpperQuantile(0.5 * std::erfc(sigmas / std::sqrt(2.0)), dof);
+}
+
+/// How far a move must go, in σ of the check's noise, to be called moved
+/// (a normal's 3σ) or to hint at a move (2σ), for a calibration whose robot
+/// σ was estimated from `dof` degrees of freedom (RobotSigmaDof): the same
+/// for every camera of a check.
+struct NoiseThresholds {
+  double dof = std::numeric_limits<double>::infinity();
+  double moved = 3.0, hint = 2.0;
+};
+
+NoiseThresholds NoiseThresholdsOf(const CalibrationResult& calibration) {
+  NoiseThresholds t;
+  t.dof = RobotSigmaDof(calibration);
+  t.moved = StudentThreshold(3.0, t.dof);
+  t.hint = StudentThreshold(2.0, t.dof);
+  return t;
 }
 
 /// How the least-squares estimate of T_cam_mount (tangent) moves with the
@@ -235,36 +258,33 @@ void EstimateAgain(const internal::Problem& problem, int k, const std::vector<in
 }
 
 /// The verdict on a re-estimated camera, and the warning when it cannot tell.
-/// `dof`: what the robot's σ in the check's noise was estimated from
-/// (RobotSigmaDof).
-void Judge(const DriftOptions& options, const CameraResult& cam, double dof, CameraDrift* drift_out,
-           std::vector<Warning>* warnings) {
+void Judge(const DriftOptions& options, const NoiseThresholds& thresholds, const CameraResult& cam,
+           CameraDrift* drift_out, std::vector<Warning>* warnings) {
   CameraDrift& drift = *drift_out;
   // Moved: beyond the tolerance, and by more than the two estimates' noise
   // (3σ, or as unlikely where the robot's σ is estimated from few poses),
   // so that a few noisy views do not call a camera moved.
-  const double moved_at = StudentThreshold(3.0, dof);
   const auto beyond_sigmas = [&](double sigmas) {
     return drift.moved_mm > sigmas * drift.sigma_mm || drift.moved_deg > sigmas * drift.sigma_deg;
   };
   const bool beyond =
       drift.moved_mm > options.tolerance_mm || drift.moved_deg > options.tolerance_deg;
-  const bool significant = beyond_sigmas(moved_at);
+  const bool significant = beyond_sigmas(thresholds.moved);
   // Beyond a tolerance but within the noise: the check cannot tell either way.
   drift.verdict = beyond && significant ? "moved" : beyond ? "not_assessed" : "ok";
   // Within 2σ (or its like) the difference is what the noise alone gives: no
   // hint of a move, only a check too coarse for the tolerance (below).
-  const bool hint = beyond_sigmas(StudentThreshold(2.0, dof));
+  const bool hint = beyond_sigmas(thresholds.hint);
   std::ostringstream w;
   w.precision(3);
   if (beyond && !significant && hint) {
     w << "seems " << drift.moved_mm << " mm / " << drift.moved_deg
       << " deg from its calibrated pose, within ";
-    if (std::isfinite(dof))
-      w << std::setprecision(2) << std::fixed << moved_at << std::defaultfloat
+    if (std::isfinite(thresholds.dof))
+      w << std::setprecision(2) << std::fixed << thresholds.moved << std::defaultfloat
         << std::setprecision(3)
         << "σ of the noise of the check (as unlikely as 3σ where the robot's σ is estimated from "
-        << dof << " degrees of freedom; ";
+        << thresholds.dof << " degrees of freedom; ";
     else
       w << "3σ of the noise of the check (";
     w << "± " << drift.sigma_mm << " mm / ± " << drift.sigma_deg << " deg)";
@@ -316,7 +336,7 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
   CalibrationOptions calibration_options;
   internal::Problem problem = internal::BuildProblem(dataset, calibration_options);
   DriftResult out;
-  const double dof = RobotSigmaDof(calibration);
+  const NoiseThresholds thresholds = NoiseThresholdsOf(calibration);
   for (const CameraResult& cam : calibration.cameras) {
     CameraDrift drift;
     drift.name = cam.name;
@@ -338,7 +358,7 @@ DriftResult CheckDrift(const Dataset& input, const CalibrationResult& calibratio
       continue;
     }
     EstimateAgain(problem, k, views, cam, calibration, options.threads, &drift);
-    Judge(options, cam, dof, &drift, &out.warnings);
+    Judge(options, thresholds, cam, &drift, &out.warnings);
     out.cameras.push_back(drift);
   }
   return out;

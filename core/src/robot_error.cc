@@ -128,13 +128,15 @@ void SettleRobotSigma(const Problem& problem, const Initialisation& init,
   robot->settled_sigma_rad = settled.settled_sigma_rad;
   // REML's count: the records' degrees of freedom (6 per pose) less those
   // the solved cameras, the target and the refined intrinsics took.
-  int poses = 0;
-  double taken = 6;  // the target
+  int poses = 0, cameras = 0;
+  size_t free_intrinsics = 0;
   for (const auto& T : solved.T_mount_holder) poses += T ? 1 : 0;
-  for (size_t k = 0; k < solved.T_cam_mount.size(); ++k)
-    if (solved.T_cam_mount[k])
-      taken += 6 + (k < init.free_intrinsics.size() ? init.free_intrinsics[k].size() : 0);
-  const double kept = poses - taken / 6;
+  for (size_t k = 0; k < solved.T_cam_mount.size(); ++k) {
+    if (!solved.T_cam_mount[k]) continue;
+    ++cameras;
+    if (k < init.free_intrinsics.size()) free_intrinsics += init.free_intrinsics[k].size();
+  }
+  const double kept = RobotRecordsKept(poses, cameras, free_intrinsics);
   robot->settled_dof_scale = kept > 0 ? std::min(std::sqrt(poses / kept), 2.0) : 2.0;
 }
 

@@ -55,6 +55,15 @@ struct RobotPrior {
 struct Initialisation;
 struct Refinement;
 
+/// REML's count of the robot records' degrees of freedom, in poses: `poses`
+/// records of 6 each, less what the solved unknowns took (6 for the target,
+/// 6 per solved camera and 1 per refined intrinsic, `free_intrinsics` in
+/// all), over 6. SettleRobotSigma's settled_dof_scale and `check`'s degrees
+/// of freedom for an estimated robot σ are read from it.
+inline double RobotRecordsKept(int poses, int cameras, size_t free_intrinsics) {
+  return poses - (6.0 + 6.0 * cameras + static_cast<double>(free_intrinsics)) / 6.0;
+}
+
 /// Expectation maximisation of the robot's σ over the solution's pose blocks
 /// (`solution`, solved from `init` under `robot`): each step takes every
 /// record's correction plus its posterior variance (the views' information
