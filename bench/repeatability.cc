@@ -7,6 +7,7 @@
 //       --robot 0.5/0.05,1/0.1 --seeds 5 --folds 8 --methods joint,park   (one line)
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -160,7 +161,8 @@ int main(int argc, char** argv) {
           if (stats.count("joint") && robot_mm > 0) {
             CalibrationOptions informed;
             informed.robot_sigma_mm = robot_mm;
-            informed.robot_sigma_deg = robot_deg;
+            informed.robot_sigma_deg =
+                robot_deg / std::sqrt(3.0);  // the simulator's turn, per axis
             const double n = static_cast<double>(scene.dataset.poses.size());
             const double n_fold = n - static_cast<double>(std::max<size_t>(1, scene.dataset.poses.size() / 4));
             try {

@@ -96,7 +96,8 @@ int main(int argc, char** argv) {
           }
           if (given_robot_sigma && robot_mm > 0) {
             calibration.robot_sigma_mm = robot_mm;
-            calibration.robot_sigma_deg = robot_deg;
+            // The simulator's turn of N(0, robot_deg) about a random axis.
+            calibration.robot_sigma_deg = robot_deg / std::sqrt(3.0);
           }
           SigmaCoverage c;
           // Per camera with a σ: its views and its rotation error over σ (the
