@@ -519,8 +519,9 @@ void SolveJointMethod(Calibration* c) {
   Initialisation at_solution = init;
   at_solution.T_camk_camt = refined.pairs;
   const std::optional<RobotPrior> considered = robot ? std::nullopt : ConsideredRobot(c);
+  c->covariance_robot = robot ? robot : considered;
   const Refinement covariance =
-      RefineJoint(c->problem, at_solution, final_options, robot ? robot : considered,
+      RefineJoint(c->problem, at_solution, final_options, c->covariance_robot,
                   considered ? JointStep::kCovarianceRobotHeld : JointStep::kCovariance);
   if (c->options.cross_validate)
     CrossValidate(c->problem, init, final_options, robot, &c->camera_validation);

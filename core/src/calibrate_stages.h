@@ -92,6 +92,10 @@ struct Calibration {
   /// That model was solved with the given intrinsics found off free
   /// (RobotWithFoundIntrinsicsFree).
   bool considered_intrinsics_free = false;
+  /// The robot's error the solution's covariance carries: robot_model, or
+  /// where the poses were taken as exact, ConsideredRobot's (none where that
+  /// is beyond any robot's).
+  std::optional<RobotPrior> covariance_robot;
   std::map<size_t, IntrinsicsResult> refined_intrinsics;
   CameraCovariance camera_covariance;
   std::vector<CameraResult::CrossValidation> camera_validation;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cstdio>
+#include <map>
 #include <random>
 
 #include "handeye/core/calibration.h"
@@ -275,4 +276,49 @@ TEST_CASE("A camera without intrinsics whose views alone barely fix them: the ro
             4.0 * camera.intrinsics->sigma[p]);
     }
   }
+}
+
+TEST_CASE(
+    "A camera's views that fit worse than its others do not make the check call its intrinsics off",
+    "[intrinsics]") {
+  // Two views of one camera whose corners are off together (turned 0.3° and
+  // scaled 0.3 % about their centre, several times the others' residuals: a target
+  // partly hidden or blurred, as bench/leave-out's rendered ChArUco cells
+  // have), kept in the solve, the robot poses given as exact. The camera's
+  // own fit weighs each view of a noise of its own by it; weighed alike, one
+  // of the three seeds was warned of intrinsics off (the given values are
+  // the true ones), and a principal point truly off is still found.
+  int warned = 0, found = 0;
+  for (std::uint64_t seed : {1, 2, 3}) {
+    SyntheticScene scene = test::ProjectedScene("medium", 4, 30, seed, 0.02);
+    Dataset& dataset = scene.dataset;
+    // The camera with most views, and two of them.
+    std::map<std::string, std::vector<size_t>> views;
+    for (size_t i = 0; i < dataset.observations.size(); ++i)
+      views[dataset.observations[i].camera].push_back(i);
+    const auto most = std::max_element(
+        views.begin(), views.end(),
+        [](const auto& a, const auto& b) { return a.second.size() < b.second.size(); });
+    const std::string camera = most->first;
+    REQUIRE(most->second.size() >= 8);
+    for (size_t n : {size_t{1}, most->second.size() / 2}) {
+      Observation& view = dataset.observations[most->second[n]];
+      Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+      for (const auto& p : view.points_px) centre += p / static_cast<double>(view.points_px.size());
+      const Eigen::Matrix2d turn =
+          1.003 * Eigen::Rotation2Dd(0.3 * M_PI / 180.0).toRotationMatrix();
+      for (auto& p : view.points_px) p = centre + turn * (p - centre);
+    }
+    CalibrationOptions options;
+    options.reject_views = false;
+    options.robot_sigma_mm = options.robot_sigma_deg = 0;
+    warned += WarningsContaining(Calibrate(dataset, options), "the images suggest");
+    // A given principal point 3 px off is still found, those views in.
+    Dataset off = dataset;
+    off.cameras[dataset.CameraIndex(camera)].params[2] += 3.0;
+    found += WarningsContaining(Calibrate(off, options),
+                                "camera '" + camera + "': the images suggest cx");
+  }
+  CHECK(warned == 0);
+  CHECK(found == 3);
 }
