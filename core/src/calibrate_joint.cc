@@ -507,7 +507,6 @@ void SolveJointMethod(Calibration* c) {
   // camera without its distortion model, whose estimated robot σ of 0.52°
   // predicted held-out poses at 6.08 px against the exact robot's 2.87 px).
   if (robot && c->options.robot_sigma_mm < 0 && c->options.check_setup) CheckRobotSigma(*robot);
-  c->robot_model = robot;
   if (robot) NoteRobotModel(c, *robot);
   c->est.T_cam_mount = refined.T_cam_mount;
   c->est.shared_T_holder_target = refined.T_holder_target[0];

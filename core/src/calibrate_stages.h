@@ -81,7 +81,6 @@ struct Calibration {
   Problem problem;
   Estimate est;
   std::vector<std::vector<int>> free_intrinsics;  ///< the joint solve's, by camera
-  std::optional<RobotPrior> robot_model;          ///< the joint solve's, when it modelled the robot
   /// The joint solve's robot model as chosen by held-out poses, and whether
   /// that choice holds the robot poses exact (RobotForRound reads it).
   std::optional<ModelChoice> model_choice;
@@ -92,9 +91,9 @@ struct Calibration {
   /// That model was solved with the given intrinsics found off free
   /// (RobotWithFoundIntrinsicsFree).
   bool considered_intrinsics_free = false;
-  /// The robot's error the solution's covariance carries: robot_model, or
-  /// where the poses were taken as exact, ConsideredRobot's (none where that
-  /// is beyond any robot's).
+  /// The robot's error the solution's covariance carries: the joint solve's
+  /// model where it modelled the robot, or where the poses were taken as
+  /// exact, ConsideredRobot's (none where that is beyond any robot's).
   std::optional<RobotPrior> covariance_robot;
   std::map<size_t, IntrinsicsResult> refined_intrinsics;
   CameraCovariance camera_covariance;
